@@ -1,0 +1,3 @@
+//! Measurement code shared by the `raypack bench` command and the criterion benches.
+
+pub mod kernels;

@@ -1,0 +1,64 @@
+//! The `raypack` command line: one file per subcommand.
+
+mod bench;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// raypack: a CPU ray tracer built to be measured.
+#[derive(Parser, Debug)]
+#[command(name = "raypack", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Measure throughput (kernels, scenes).
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+}
+
+/// Exit code for input the user can fix (bad scene file, unwritable output).
+pub const EXIT_BAD_INPUT: u8 = 2;
+
+/// Parse the command line and run it.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Bench(cmd) => bench::run(cmd),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(CliError::BadInput(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+        Err(CliError::Failed(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// How a subcommand failed: the user's input (exit 2) or anything else (exit 1).
+#[derive(Debug)]
+pub enum CliError {
+    /// Bad input: a malformed scene, an output path that cannot be written…
+    BadInput(anyhow::Error),
+    /// Any other failure.
+    Failed(anyhow::Error),
+}
+
+impl From<anyhow::Error> for CliError {
+    fn from(e: anyhow::Error) -> Self {
+        CliError::Failed(e)
+    }
+}
+
+/// Result of a subcommand.
+pub type CliResult = Result<(), CliError>;

@@ -1,0 +1,153 @@
+//! The primitives of the lecture, each with a scalar and a packet kernel side by
+//! side in its own file, and [`Primitive`], the enum that dispatches to them.
+//!
+//! Every kernel has the same contract: it finds the nearest hit of the ray with
+//! the shape in `[t_min, hit.t]` and records it (t, primitive index, u, v) only
+//! if [`Hit::accepts`] it; a miss leaves the record untouched. Packet kernels do
+//! the same on every active lane and must agree with the scalar kernel lane by lane.
+
+pub mod plane;
+pub mod polygon;
+pub mod sphere;
+pub mod transformed;
+pub mod triangle;
+
+use glam::Vec3;
+
+pub use plane::Plane;
+pub use polygon::Polygon;
+pub use sphere::Sphere;
+pub use transformed::Transformed;
+pub use triangle::Triangle;
+
+use crate::bounds::Aabb;
+use crate::packet::{HitPacket, RayPacket};
+use crate::ray::{Hit, Ray};
+use crate::simd::SimdFloat;
+
+/// Why a primitive cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GeometryError {
+    /// A NaN or infinite coordinate.
+    #[error("non-finite coordinate")]
+    NotFinite,
+    /// A plane normal (or `i × j`) of zero length.
+    #[error("plane normal is zero (spanning vectors are parallel)")]
+    DegeneratePlane,
+    /// A polygon with fewer than three vertices.
+    #[error("polygon needs at least 3 vertices, got {0}")]
+    TooFewVertices(usize),
+    /// A polygon whose first three vertices (which fix its normal) are collinear.
+    #[error("the first three polygon vertices are collinear")]
+    CollinearVertices,
+    /// A transform whose bottom row is not `0 0 0 1`.
+    #[error("transform is not affine (bottom row must be 0 0 0 1)")]
+    NotAffine,
+    /// A transform that cannot be inverted.
+    #[error("transform is singular")]
+    SingularTransform,
+}
+
+/// A shape's intersection kernels, scalar and packet, with one contract: find
+/// the nearest hit in `[t_min, hit.t]` and record it only where
+/// [`Hit::accepts`] allows; a miss leaves the record untouched.
+pub trait Intersect {
+    /// Scalar kernel: returns whether the record was updated.
+    fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool;
+
+    /// Packet kernel: the scalar kernel on every active lane.
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>);
+}
+
+/// The kind of a primitive, for statistics and reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PrimitiveKind {
+    /// [`Sphere`].
+    Sphere,
+    /// [`Plane`].
+    Plane,
+    /// [`Triangle`].
+    Triangle,
+    /// [`Polygon`].
+    Polygon,
+    /// [`Transformed`].
+    Transformed,
+}
+
+/// Any primitive of the engine.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Primitive {
+    /// A sphere.
+    Sphere(Sphere),
+    /// An infinite plane (kept out of acceleration structures).
+    Plane(Plane),
+    /// A triangle.
+    Triangle(Triangle),
+    /// A planar polygon.
+    Polygon(Polygon),
+    /// A primitive under an affine transform.
+    Transformed(Box<Transformed>),
+}
+
+/// Run `$body` with `$p` bound to the shape inside any variant.
+macro_rules! dispatch {
+    ($self:expr, $p:ident => $body:expr) => {
+        match $self {
+            Primitive::Sphere($p) => $body,
+            Primitive::Plane($p) => $body,
+            Primitive::Triangle($p) => $body,
+            Primitive::Polygon($p) => $body,
+            Primitive::Transformed($p) => $body,
+        }
+    };
+}
+
+impl Primitive {
+    /// The kind of this primitive.
+    pub fn kind(&self) -> PrimitiveKind {
+        match self {
+            Primitive::Sphere(_) => PrimitiveKind::Sphere,
+            Primitive::Plane(_) => PrimitiveKind::Plane,
+            Primitive::Triangle(_) => PrimitiveKind::Triangle,
+            Primitive::Polygon(_) => PrimitiveKind::Polygon,
+            Primitive::Transformed(_) => PrimitiveKind::Transformed,
+        }
+    }
+
+    /// Bounding box; None for unbounded primitives (planes) and for shapes that
+    /// can never be hit (degenerate triangles).
+    pub fn bounds(&self) -> Option<Aabb> {
+        match self {
+            Primitive::Sphere(s) => Some(s.bounds()),
+            Primitive::Plane(_) => None,
+            Primitive::Triangle(t) => t.bounds(),
+            Primitive::Polygon(p) => Some(p.bounds()),
+            Primitive::Transformed(t) => t.bounds(),
+        }
+    }
+
+    /// Unit geometric normal at the recorded hit of `ray`.
+    pub fn geometric_normal(&self, ray: &Ray, hit: &Hit) -> Vec3 {
+        match self {
+            Primitive::Sphere(s) => s.normal_at(ray.at(hit.t)),
+            Primitive::Plane(p) => p.normal(),
+            Primitive::Triangle(t) => t.normal(),
+            Primitive::Polygon(p) => p.normal(),
+            Primitive::Transformed(t) => t.geometric_normal(ray, hit),
+        }
+    }
+}
+
+impl Intersect for Primitive {
+    #[inline]
+    fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
+        dispatch!(self, p => p.intersect(ray, prim, hit))
+    }
+
+    /// Packet kernel.
+    #[inline]
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
+        dispatch!(self, p => p.intersect_packet(rays, prim, hits))
+    }
+}

@@ -1,0 +1,156 @@
+//! Planar polygon, convex or concave, any vertex count (lecture section 6):
+//! intersect the polygon's plane, project the hit onto the coordinate plane that
+//! drops the normal's dominant axis, and count how often a 2D ray from the point
+//! in direction (1, 0) crosses the edges; odd means inside.
+//!
+//! An edge `d_i → d_{i+1}` is crossed when the point's y lies in the half-open
+//! span `[min(y_i, y_{i+1}), max(y_i, y_{i+1}))` (the lecture's `s ∈ [0, 1]`,
+//! half-open so a vertex shared by two edges counts once) and the crossing
+//! `x_i + (y − y_i)·(x_{i+1} − x_i)/(y_{i+1} − y_i)` lies to the right of the point.
+//! Horizontal edges can never be crossed and are dropped when the polygon is built.
+
+use glam::Vec3;
+
+use crate::bounds::Aabb;
+use crate::geometry::{GeometryError, Intersect};
+use crate::packet::{HitPacket, RayPacket};
+use crate::ray::{Hit, Ray};
+use crate::simd::SimdFloat;
+
+/// One non-horizontal edge in the projection plane, with its inverse slope
+/// precomputed so the crossing test needs no division. 16 bytes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Edge {
+    x0: f32,
+    y0: f32,
+    y1: f32,
+    /// `(x1 − x0) / (y1 − y0)`.
+    dx_dy: f32,
+}
+
+/// A planar polygon. 48 bytes plus 16 bytes per non-horizontal edge.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polygon {
+    /// Unit normal, fixed by the first three vertices (counter-clockwise = front).
+    normal: Vec3,
+    /// Plane offset `⟨normal, v0⟩`.
+    d: f32,
+    /// Dropped axis of the projection.
+    k: u32,
+    /// Edges in the projection plane.
+    edges: Box<[Edge]>,
+    /// Bounding box of the vertices.
+    bounds: Aabb,
+}
+
+impl Polygon {
+    /// Build from vertices in order. The first three fix the normal (the NFF
+    /// rule), so they must not be collinear; at least three vertices are needed.
+    pub fn new(vertices: &[Vec3]) -> Result<Self, GeometryError> {
+        if vertices.len() < 3 {
+            return Err(GeometryError::TooFewVertices(vertices.len()));
+        }
+        if !vertices.iter().all(|v| v.is_finite()) {
+            return Err(GeometryError::NotFinite);
+        }
+        let n = (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]);
+        let normal = n.try_normalize().ok_or(GeometryError::CollinearVertices)?;
+        let abs = normal.abs();
+        let k = if abs.x >= abs.y && abs.x >= abs.z {
+            0
+        } else if abs.y >= abs.z {
+            1
+        } else {
+            2
+        };
+        let project = |p: Vec3| (p[(k + 1) % 3], p[(k + 2) % 3]);
+        let edges = (0..vertices.len())
+            .filter_map(|i| {
+                let (x0, y0) = project(vertices[i]);
+                let (x1, y1) = project(vertices[(i + 1) % vertices.len()]);
+                (y0 != y1).then(|| Edge {
+                    x0,
+                    y0,
+                    y1,
+                    dx_dy: (x1 - x0) / (y1 - y0),
+                })
+            })
+            .collect();
+        Ok(Self {
+            normal,
+            d: normal.dot(vertices[0]),
+            k: k as u32,
+            edges,
+            bounds: Aabb::from_points(vertices.iter().copied()),
+        })
+    }
+
+    /// Unit normal.
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+
+    /// Bounding box.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// Number of edges that take part in the crossing test.
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
+    }
+}
+
+impl Intersect for Polygon {
+    /// Scalar kernel.
+    #[inline]
+    fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
+        let denom = self.normal.dot(ray.dir);
+        if denom == 0.0 {
+            return false;
+        }
+        let t = (self.d - self.normal.dot(ray.origin)) / denom;
+        if !hit.accepts(t, ray.t_min, prim) {
+            return false;
+        }
+        let k = self.k as usize;
+        let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
+        let px = ray.origin[ku] + t * ray.dir[ku];
+        let py = ray.origin[kv] + t * ray.dir[kv];
+        let mut inside = false;
+        for e in self.edges.iter() {
+            let straddles = (e.y0 <= py) != (e.y1 <= py);
+            if straddles && px < e.x0 + (py - e.y0) * e.dx_dy {
+                inside = !inside;
+            }
+        }
+        if !inside {
+            return false;
+        }
+        hit.record(t, prim, 0.0, 0.0);
+        true
+    }
+
+    /// Packet kernel: every edge is tested against all lanes at once.
+    #[inline]
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
+        let denom = rays.dir.dot_splat(self.normal);
+        let t = (F::splat(self.d) - rays.origin.dot_splat(self.normal)) / denom;
+        let mask = hits.accepts(rays, t, prim) & denom.ne(F::splat(0.0));
+        if mask.none() {
+            return;
+        }
+        let k = self.k as usize;
+        let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
+        let px = rays.origin.axis(ku) + t * rays.dir.axis(ku);
+        let py = rays.origin.axis(kv) + t * rays.dir.axis(kv);
+        let mut inside = F::splat(0.0);
+        for e in self.edges.iter() {
+            let straddles = F::splat(e.y0).le(py) ^ F::splat(e.y1).le(py);
+            let crosses = px.lt(F::splat(e.x0) + (py - F::splat(e.y0)) * F::splat(e.dx_dy));
+            inside = inside ^ (straddles & crosses);
+        }
+        let zero = F::splat(0.0);
+        hits.record(mask & inside, t, prim, zero, zero);
+    }
+}

@@ -1,0 +1,19 @@
+//! raypack: a CPU ray-tracing engine built to be measured.
+//!
+//! Rays travel in 8-wide structure-of-arrays packets ([`packet::RayPacket8`])
+//! through SIMD kernels, and every packet kernel has a scalar twin in the same
+//! file that it is tested against lane by lane. The mathematics follows the
+//! lecture in `shared/reference/LECTURE.md`: the camera ([`camera`]), planes,
+//! triangles, polygons, spheres and transformed objects ([`geometry`]).
+
+pub mod accel;
+pub mod bench;
+pub mod bounds;
+pub mod camera;
+pub mod cli;
+pub mod geometry;
+pub mod packet;
+pub mod ray;
+pub mod rng;
+pub mod scene;
+pub mod simd;

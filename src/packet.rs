@@ -1,0 +1,176 @@
+//! Ray packets: `LANES` rays in structure-of-arrays form, and their hit records.
+//!
+//! The width is the SIMD type parameter `F` ([`SimdFloat`]); [`RayPacket8`] and
+//! [`HitPacket8`] are the 8-wide packets the engine traces. A lane whose bit in
+//! `active` is clear is carried along but never changes its hit record.
+
+use glam::Vec3;
+
+use crate::ray::{Hit, NO_HIT, Ray};
+use crate::simd::{SimdFloat, SimdU32, V3};
+
+/// `F::LANES` rays, one per lane. For `f32x8`: 9 vectors of 32 bytes = 288 bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct RayPacket<F: SimdFloat> {
+    /// Origins.
+    pub origin: V3<F>,
+    /// Directions (unit length).
+    pub dir: V3<F>,
+    /// Smallest accepted t per lane.
+    pub t_min: F,
+    /// Largest accepted t per lane.
+    pub t_max: F,
+    /// Lane mask: set lanes are traced, clear lanes are left alone.
+    pub active: F,
+}
+
+/// The 8-wide ray packet.
+pub type RayPacket8 = RayPacket<wide::f32x8>;
+/// The 8-wide hit packet.
+pub type HitPacket8 = HitPacket<wide::f32x8>;
+
+impl<F: SimdFloat> RayPacket<F> {
+    /// Number of lanes.
+    pub const LANES: usize = F::LANES;
+
+    /// Pack up to `LANES` rays; lanes past `rays.len()` are inactive copies of
+    /// the first ray (or of a zero ray when `rays` is empty).
+    pub fn from_rays(rays: &[Ray]) -> Self {
+        Self::from_rays_masked(rays, u32::MAX)
+    }
+
+    /// Pack up to `LANES` rays, with only the lanes whose bit is set in `mask` active.
+    pub fn from_rays_masked(rays: &[Ray], mask: u32) -> Self {
+        assert!(rays.len() <= F::LANES, "more rays than lanes");
+        let filler = rays
+            .first()
+            .copied()
+            .unwrap_or(Ray::new(Vec3::ZERO, Vec3::Z, 0.0, 0.0));
+        let mut lanes: [F::Array; 8] = Default::default();
+        for i in 0..F::LANES {
+            let r = rays.get(i).unwrap_or(&filler);
+            let values = [
+                r.origin.x, r.origin.y, r.origin.z, r.dir.x, r.dir.y, r.dir.z, r.t_min, r.t_max,
+            ];
+            for (array, value) in lanes.iter_mut().zip(values) {
+                array.as_mut()[i] = value;
+            }
+        }
+        let present = if rays.len() >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << rays.len()) - 1
+        };
+        let [ox, oy, oz, dx, dy, dz, t_min, t_max] = lanes.map(F::from_array);
+        Self {
+            origin: V3 { x: ox, y: oy, z: oz },
+            dir: V3 { x: dx, y: dy, z: dz },
+            t_min,
+            t_max,
+            active: F::mask_from_bits(mask & present),
+        }
+    }
+
+    /// The ray in lane `i`.
+    pub fn ray(&self, i: usize) -> Ray {
+        Ray::new(
+            self.origin.lane(i),
+            self.dir.lane(i),
+            self.t_min.to_array().as_ref()[i],
+            self.t_max.to_array().as_ref()[i],
+        )
+    }
+
+    /// Whether lane `i` is active.
+    #[inline]
+    pub fn is_active(&self, i: usize) -> bool {
+        self.active.bitmask() >> i & 1 == 1
+    }
+}
+
+/// Hit records of a packet, one per lane. For `f32x8`: 7 vectors = 224 bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct HitPacket<F: SimdFloat> {
+    /// Ray parameter of the nearest hit (`t_max` while nothing is hit).
+    pub t: F,
+    /// Index of the primitive hit, [`NO_HIT`] for none.
+    pub prim: F::U32,
+    /// First surface parameter.
+    pub u: F,
+    /// Second surface parameter.
+    pub v: F,
+    /// Geometric normal, filled in after traversal.
+    pub ng: V3<F>,
+}
+
+impl<F: SimdFloat> HitPacket<F> {
+    /// Empty records for `rays`: nothing hit, `t = t_max`.
+    #[inline]
+    pub fn none(rays: &RayPacket<F>) -> Self {
+        Self {
+            t: rays.t_max,
+            prim: F::U32::splat(NO_HIT),
+            u: F::splat(0.0),
+            v: F::splat(0.0),
+            ng: V3::splat(Vec3::ZERO),
+        }
+    }
+
+    /// The lane mask of candidates at `t` on primitive `prim` that replace the
+    /// current records: the packet form of [`Hit::accepts`], restricted to active lanes.
+    #[inline(always)]
+    pub fn accepts(&self, rays: &RayPacket<F>, t: F, prim: u32) -> F {
+        let in_range = t.ge(rays.t_min) & t.lt(F::splat(f32::INFINITY));
+        let mut closer = t.lt(self.t);
+        let tie = t.eq(self.t);
+        // Equal t is rare outside shared edges: only then compare primitive indices.
+        if tie.any() {
+            closer = closer | (tie & F::U32::splat(prim).lt(self.prim));
+        }
+        rays.active & in_range & closer
+    }
+
+    /// Record hits in the lanes of `mask`.
+    #[inline(always)]
+    pub fn record(&mut self, mask: F, t: F, prim: u32, u: F, v: F) {
+        self.t = mask.select(t, self.t);
+        self.prim = F::U32::select(mask, F::U32::splat(prim), self.prim);
+        self.u = mask.select(u, self.u);
+        self.v = mask.select(v, self.v);
+    }
+
+    /// The mask of lanes that hit something.
+    #[inline]
+    pub fn hit_mask(&self) -> F {
+        self.prim.lt(F::U32::splat(NO_HIT))
+    }
+
+    /// The record of lane `i`.
+    pub fn hit(&self, i: usize) -> Hit {
+        Hit {
+            t: self.t.to_array().as_ref()[i],
+            prim: self.prim.to_array().as_ref()[i],
+            u: self.u.to_array().as_ref()[i],
+            v: self.v.to_array().as_ref()[i],
+            ng: self.ng.lane(i),
+        }
+    }
+
+    /// Overwrite the record of lane `i`.
+    pub fn set_hit(&mut self, i: usize, hit: &Hit) {
+        fn set<F: SimdFloat>(x: &mut F, i: usize, value: f32) {
+            let mut a = x.to_array();
+            a.as_mut()[i] = value;
+            *x = F::from_array(a);
+        }
+        set(&mut self.t, i, hit.t);
+        set(&mut self.u, i, hit.u);
+        set(&mut self.v, i, hit.v);
+        set(&mut self.ng.x, i, hit.ng.x);
+        set(&mut self.ng.y, i, hit.ng.y);
+        set(&mut self.ng.z, i, hit.ng.z);
+        let mut prim = self.prim.to_array();
+        prim.as_mut()[i] = hit.prim;
+        self.prim = F::U32::from_array(prim);
+    }
+}

@@ -1,0 +1,109 @@
+//! A single ray and its hit record.
+
+use glam::Vec3;
+
+/// Primitive index of a hit record that has hit nothing.
+pub const NO_HIT: u32 = u32::MAX;
+
+/// A ray `p(t) = origin + t·dir` with the parameter interval `[t_min, t_max]`.
+///
+/// `dir` is a unit vector for rays the engine makes (camera, reflection,
+/// refraction, shadow); kernels do not rely on it except where noted.
+/// 32 bytes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Start point `p0`.
+    pub origin: Vec3,
+    /// Direction `v` (unit length).
+    pub dir: Vec3,
+    /// Smallest accepted t (a small positive value avoids self-hits of secondary rays).
+    pub t_min: f32,
+    /// Largest accepted t.
+    pub t_max: f32,
+}
+
+impl Ray {
+    /// A ray over `[t_min, t_max]`.
+    #[inline]
+    pub fn new(origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Self {
+        Self {
+            origin,
+            dir,
+            t_min,
+            t_max,
+        }
+    }
+
+    /// A ray over `[0, ∞)`.
+    #[inline]
+    pub fn unbounded(origin: Vec3, dir: Vec3) -> Self {
+        Self::new(origin, dir, 0.0, f32::INFINITY)
+    }
+
+    /// The point at parameter `t`.
+    #[inline]
+    pub fn at(&self, t: f32) -> Vec3 {
+        self.origin + t * self.dir
+    }
+}
+
+/// The nearest hit found so far along a ray.
+///
+/// Kernels write `t`, `prim`, `u` and `v`; the geometric normal `ng` is filled
+/// once per ray, after the nearest hit is known, by
+/// [`Primitive::geometric_normal`](crate::geometry::Primitive::geometric_normal).
+/// `(u, v)` are barycentric for triangles (`p = (1-u-v)·a + u·b + v·c`), the
+/// plane coordinates for parametric planes, and 0 where a shape has no cheap
+/// parameterisation (spheres, other planes, polygons).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter of the hit (`t_max` of the ray while nothing is hit).
+    pub t: f32,
+    /// Index of the primitive hit, [`NO_HIT`] for none.
+    pub prim: u32,
+    /// First surface parameter.
+    pub u: f32,
+    /// Second surface parameter.
+    pub v: f32,
+    /// Geometric normal (unit length) once filled in; zero before.
+    pub ng: Vec3,
+}
+
+impl Hit {
+    /// The empty record for `ray`: nothing hit, `t = ray.t_max`.
+    #[inline]
+    pub fn none(ray: &Ray) -> Self {
+        Self {
+            t: ray.t_max,
+            prim: NO_HIT,
+            u: 0.0,
+            v: 0.0,
+            ng: Vec3::ZERO,
+        }
+    }
+
+    /// True once a primitive was hit.
+    #[inline]
+    pub fn is_hit(&self) -> bool {
+        self.prim != NO_HIT
+    }
+
+    /// Whether a candidate at `t` on primitive `prim` replaces this record.
+    ///
+    /// The candidate must lie in `[t_min, hit.t]` and be finite; on equal `t` the
+    /// lower primitive index wins, so the nearest hit is the same whatever order
+    /// the primitives are tested in (brute force, BVH, packet or scalar).
+    #[inline(always)]
+    pub fn accepts(&self, t: f32, t_min: f32, prim: u32) -> bool {
+        t >= t_min && t < f32::INFINITY && (t < self.t || (t == self.t && prim < self.prim))
+    }
+
+    /// Record a hit (the caller has checked [`Hit::accepts`]).
+    #[inline(always)]
+    pub fn record(&mut self, t: f32, prim: u32, u: f32, v: f32) {
+        self.t = t;
+        self.prim = prim;
+        self.u = u;
+        self.v = v;
+    }
+}
