@@ -59,6 +59,20 @@ pub trait Intersect {
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>);
 }
 
+/// True when a plane-hit denominator `⟨n, v⟩` is neither zero (the ray is
+/// parallel to the plane) nor infinite nor NaN (an infinite direction would
+/// otherwise give `t = 0`).
+#[inline(always)]
+pub fn usable_denominator(denom: f32) -> bool {
+    denom != 0.0 && denom.abs() < f32::INFINITY
+}
+
+/// Lane mask of [`usable_denominator`].
+#[inline(always)]
+pub fn usable_denominators<F: SimdFloat>(denom: F) -> F {
+    denom.ne(F::splat(0.0)) & denom.abs().lt(F::splat(f32::INFINITY))
+}
+
 /// The kind of a primitive, for statistics and reports.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 #[serde(rename_all = "lowercase")]

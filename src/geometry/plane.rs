@@ -5,11 +5,13 @@
 //! - parametric `s(u, v) = q + u·i + v·j`: the 3×3 system `[−v | i | j]·(t, u, v)ᵀ = p0 − q`
 //!   solved by Cramer's rule, which also yields the plane coordinates `(u, v)`.
 //!
-//! A ray parallel to the plane (`⟨n, v⟩ = 0`) misses, also when it runs inside it.
+//! A ray parallel to the plane (`⟨n, v⟩ = 0`) misses, also when it runs inside it;
+//! so does a ray whose `⟨n, v⟩` is not finite (an infinite direction would
+//! otherwise give `t = 0`).
 
 use glam::Vec3;
 
-use crate::geometry::{GeometryError, Intersect};
+use crate::geometry::{GeometryError, Intersect, usable_denominator, usable_denominators};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, V3};
@@ -131,7 +133,7 @@ impl Intersect for ImplicitPlane {
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         let denom = self.n.dot(ray.dir);
-        if denom == 0.0 {
+        if !usable_denominator(denom) {
             return false;
         }
         let t = -(self.n.dot(ray.origin) + self.d) / denom;
@@ -147,7 +149,7 @@ impl Intersect for ImplicitPlane {
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let denom = rays.dir.dot_splat(self.n);
         let t = -(rays.origin.dot_splat(self.n) + F::splat(self.d)) / denom;
-        let mask = hits.accepts(rays, t, prim) & denom.ne(F::splat(0.0));
+        let mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
         let zero = F::splat(0.0);
         hits.record(mask, t, prim, zero, zero);
     }
@@ -158,7 +160,7 @@ impl Intersect for PointNormalPlane {
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         let denom = self.n.dot(ray.dir);
-        if denom == 0.0 {
+        if !usable_denominator(denom) {
             return false;
         }
         let t = self.n.dot(self.q0 - ray.origin) / denom;
@@ -174,7 +176,7 @@ impl Intersect for PointNormalPlane {
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let denom = rays.dir.dot_splat(self.n);
         let t = (V3::splat(self.q0) - rays.origin).dot_splat(self.n) / denom;
-        let mask = hits.accepts(rays, t, prim) & denom.ne(F::splat(0.0));
+        let mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
         let zero = F::splat(0.0);
         hits.record(mask, t, prim, zero, zero);
     }
@@ -186,7 +188,7 @@ impl Intersect for ParametricPlane {
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         let det = -ray.dir.dot(self.n);
-        if det == 0.0 {
+        if !usable_denominator(det) {
             return false;
         }
         let r = ray.origin - self.q;
@@ -208,7 +210,7 @@ impl Intersect for ParametricPlane {
         let r = rays.origin - V3::splat(self.q);
         let inv_det = F::splat(1.0) / det;
         let t = r.dot_splat(self.n) * inv_det;
-        let mask = hits.accepts(rays, t, prim) & det.ne(F::splat(0.0));
+        let mask = hits.accepts(rays, t, prim) & usable_denominators(det);
         if mask.none() {
             return;
         }

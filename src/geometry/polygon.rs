@@ -12,7 +12,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::{GeometryError, Intersect};
+use crate::geometry::{GeometryError, Intersect, usable_denominator, usable_denominators};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
@@ -106,7 +106,7 @@ impl Intersect for Polygon {
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         let denom = self.normal.dot(ray.dir);
-        if denom == 0.0 {
+        if !usable_denominator(denom) {
             return false;
         }
         let t = (self.d - self.normal.dot(ray.origin)) / denom;
@@ -136,7 +136,7 @@ impl Intersect for Polygon {
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let denom = rays.dir.dot_splat(self.normal);
         let t = (F::splat(self.d) - rays.origin.dot_splat(self.normal)) / denom;
-        let mask = hits.accepts(rays, t, prim) & denom.ne(F::splat(0.0));
+        let mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
         if mask.none() {
             return;
         }

@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::Intersect;
+use crate::geometry::{Intersect, usable_denominator, usable_denominators};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
@@ -149,6 +149,9 @@ impl Intersect for Triangle {
         let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
         let (o, d) = (ray.origin, ray.dir);
         let denom = d[k] + self.n_u * d[ku] + self.n_v * d[kv];
+        if !usable_denominator(denom) {
+            return false;
+        }
         let t = (self.n_d - o[k] - self.n_u * o[ku] - self.n_v * o[kv]) / denom;
         if !hit.accepts(t, ray.t_min, prim) {
             return false;
@@ -176,7 +179,7 @@ impl Intersect for Triangle {
         let (n_u, n_v) = (F::splat(self.n_u), F::splat(self.n_v));
         let denom = d.axis(k) + n_u * d.axis(ku) + n_v * d.axis(kv);
         let t = (F::splat(self.n_d) - o.axis(k) - n_u * o.axis(ku) - n_v * o.axis(kv)) / denom;
-        let mut mask = hits.accepts(rays, t, prim);
+        let mut mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
         if mask.none() {
             return;
         }
