@@ -8,7 +8,7 @@ use std::io::{self, Write};
 
 use glam::DVec3;
 
-/// The camera of an NFF `v` entity.
+/// The camera of an NFF `v` entity. 96 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
     /// Eye position.
@@ -25,7 +25,7 @@ pub struct View {
     pub resolution: [u32; 2],
 }
 
-/// The surface of an NFF `f` entity.
+/// The surface of an NFF `f` entity. 64 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface {
     /// Colour.
@@ -57,7 +57,7 @@ pub fn phong_exponent(half_angle_deg: f64) -> f64 {
     }
 }
 
-/// Writes NFF entities and counts the primitives among them.
+/// Writes NFF entities and counts the primitives among them. 8 bytes plus the output.
 #[derive(Debug)]
 pub struct NffWriter<W: Write> {
     out: W,
