@@ -1,6 +1,7 @@
 //! The `raypack` command line: one file per subcommand.
 
 mod bench;
+mod r#gen;
 
 use std::process::ExitCode;
 
@@ -21,6 +22,9 @@ pub enum Command {
     /// Measure throughput (kernels, scenes).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Generate a scene (SPD sphereflake, tetra, fractal mountain; random spheres,
+    /// random triangles, terrain) as NFF.
+    Gen(r#gen::GenArgs),
 }
 
 /// Exit code for input the user can fix (bad scene file, unwritable output).
@@ -31,6 +35,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bench(cmd) => bench::run(cmd),
+        Command::Gen(args) => r#gen::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

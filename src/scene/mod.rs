@@ -5,6 +5,12 @@
 //! position in file order (NFF: each `s`/`p`/`pp`/`c` entity; OBJ/PLY: each
 //! face), so hit records can be compared ray by ray with any other engine.
 
+pub mod generate;
+mod input;
+mod mesh;
+pub mod obj;
+pub mod ply;
+
 use std::collections::HashMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -212,9 +218,18 @@ impl std::error::Error for SceneError {}
 /// Load a scene, choosing the reader by file extension.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let name = path.to_string_lossy().to_ascii_lowercase();
-    let _ = name;
-    Err(SceneError::file(
-        path,
-        "unknown scene format (expected .nff, .obj, .ply, .ply.gz or .toml)",
-    ))
+    let extension = match name.rsplit_once('.') {
+        Some((stem, "gz")) if stem.ends_with(".ply") => "ply.gz",
+        Some((_, ext)) => ext,
+        None => "",
+    };
+    match extension {
+        "obj" => obj::load(path),
+        "ply" => ply::load(path),
+        "ply.gz" => ply::load(path),
+        _ => Err(SceneError::file(
+            path,
+            "unknown scene format (expected .nff, .obj, .ply, .ply.gz or .toml)",
+        )),
+    }
 }

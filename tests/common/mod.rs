@@ -1,12 +1,13 @@
-//! Shared helpers of the integration tests: seeded random rays and the lane-by-lane
-//! comparison of a shape's packet kernel with its scalar kernel.
+//! Shared helpers of the integration tests: seeded random rays, the lane-by-lane
+//! comparison of a shape's packet kernel with its scalar kernel, and scene comparisons.
 #![allow(dead_code)]
 
 use glam::Vec3;
-use raypack::geometry::Intersect;
+use raypack::geometry::{Intersect, Primitive};
 use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, NO_HIT, Ray};
 use raypack::rng::Rng;
+use raypack::scene::Scene;
 use raypack::simd::SimdFloat;
 
 /// A random ray around the box `[lo, hi]`: aimed at it from outside, started
@@ -153,5 +154,26 @@ pub fn assert_poisoned_rays_miss<K: Intersect>(name: &str, shape: &K) {
             assert_eq!(h.prim, hit.prim, "{name}: packet and scalar differ on {ray:?}");
             assert!(h.prim == NO_HIT || h.t.is_finite(), "{name}: packet recorded {h:?} for {ray:?}");
         }
+    }
+}
+
+/// Assert two scenes hold the same primitives, in the same order, with the
+/// same materials.
+#[track_caller]
+pub fn assert_same_geometry(a: &Scene, b: &Scene) {
+    assert_eq!(a.primitives.len(), b.primitives.len(), "primitive counts differ");
+    for (i, (p, q)) in a.primitives.iter().zip(&b.primitives).enumerate() {
+        assert_eq!(p, q, "primitive {i} differs");
+    }
+    assert_eq!(a.material_of, b.material_of);
+    assert_eq!(a.materials, b.materials);
+}
+
+/// The vertices of a triangle primitive.
+#[track_caller]
+pub fn triangle_vertices(p: &Primitive) -> [Vec3; 3] {
+    match p {
+        Primitive::Triangle(t) => t.vertices(),
+        other => panic!("expected a triangle, got {other:?}"),
     }
 }

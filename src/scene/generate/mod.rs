@@ -1,0 +1,325 @@
+//! Scene generators, written as NFF text: three of Eric Haines' Standard
+//! Procedural Databases ("A Proposal for Standard Graphics Environments", IEEE
+//! CG&A 7(11), 1987), written here from their published descriptions, so their
+//! published ray statistics apply; and three families that scale smoothly from
+//! 10² to 10⁶ primitives of one known kind.
+//!
+//! | kind | `--size` means | default | primitives |
+//! | --- | --- | --- | --- |
+//! | `sphereflake` (SPD `balls`) | SPD size factor (recursion depth) | 4 | `Σ_{i≤n} 9^i` spheres + 1 polygon (7382) |
+//! | `tetra` | SPD size factor | 4 | `4^(n+2)` triangles (4096) |
+//! | `fractal-mountain` (SPD `mount`) | SPD size factor | 4 | `2·4^(n+2)` triangles + 4 spheres (8196) |
+//! | `random-spheres` | sphere count | 10000 | `n` spheres |
+//! | `random-triangles` | triangle count | 10000 | `n` triangles |
+//! | `terrain` | subdivision level | 6 | `2·4^n` triangles (8192) |
+//!
+//! The SPD size factors follow the 1987 distribution, where 4 is the classic
+//! scene of every database (SPD 3.x renumbered tetra and mount: its 6 is this 4).
+//! The random kinds and the terrain are seeded with [`crate::rng::Rng`]; the
+//! mountain's `--seed` is the SPD's mountain number. Each file starts with `#`
+//! comments saying what it is and the command that made it.
+
+mod mountain;
+pub mod nff_writer;
+mod random_spheres;
+mod random_triangles;
+mod sphereflake;
+mod studio;
+mod terrain;
+mod tetra;
+
+use std::io::{self, Write};
+use std::ops::RangeInclusive;
+
+use glam::DVec3;
+
+use nff_writer::NffWriter;
+
+/// The SPD's background colour, "UNC sky blue".
+const SKY_BLUE: DVec3 = DVec3::new(0.078, 0.361, 0.753);
+
+/// Seed of the random kinds when none is given.
+const DEFAULT_SEED: u64 = 1;
+
+/// Largest primitive count of the random kinds.
+const MAX_COUNT: u32 = 10_000_000;
+
+/// What to generate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Kind {
+    /// SPD `balls`: the sphereflake, mirror spheres on a floor.
+    #[value(alias = "balls")]
+    Sphereflake,
+    /// SPD `tetra`: a Sierpinski tetrahedron of triangles.
+    Tetra,
+    /// SPD `mount`: a fractal mountain of triangles and 4 glass spheres.
+    #[value(alias = "mount")]
+    FractalMountain,
+    /// Spheres at random in a cube.
+    RandomSpheres,
+    /// Triangles at random in a cube.
+    RandomTriangles,
+    /// A diamond-square height field of triangles.
+    Terrain,
+}
+
+impl Kind {
+    /// Every kind, in the order of the table above.
+    pub const ALL: [Kind; 6] = [
+        Kind::Sphereflake,
+        Kind::Tetra,
+        Kind::FractalMountain,
+        Kind::RandomSpheres,
+        Kind::RandomTriangles,
+        Kind::Terrain,
+    ];
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Sphereflake => "sphereflake",
+            Kind::Tetra => "tetra",
+            Kind::FractalMountain => "fractal-mountain",
+            Kind::RandomSpheres => "random-spheres",
+            Kind::RandomTriangles => "random-triangles",
+            Kind::Terrain => "terrain",
+        }
+    }
+
+    /// What `--size` means.
+    pub fn size_meaning(self) -> &'static str {
+        match self {
+            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain => "the SPD size factor",
+            Kind::RandomSpheres => "the number of spheres",
+            Kind::RandomTriangles => "the number of triangles",
+            Kind::Terrain => "the subdivision level",
+        }
+    }
+
+    /// The `--size` values accepted (the largest give a few million primitives).
+    pub fn sizes(self) -> RangeInclusive<u32> {
+        match self {
+            Kind::Sphereflake => 0..=7,
+            Kind::Tetra => 0..=9,
+            Kind::FractalMountain => 0..=8,
+            Kind::RandomSpheres | Kind::RandomTriangles => 1..=MAX_COUNT,
+            Kind::Terrain => 0..=10,
+        }
+    }
+
+    /// `--size` when none is given: the classic SPD scenes, about 10⁴ primitives otherwise.
+    pub fn default_size(self) -> u32 {
+        match self {
+            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain => 4,
+            Kind::RandomSpheres | Kind::RandomTriangles => 10_000,
+            Kind::Terrain => 6,
+        }
+    }
+
+    /// The `--seed` values accepted; None for kinds that are not random.
+    pub fn seeds(self) -> Option<RangeInclusive<u64>> {
+        match self {
+            Kind::Sphereflake | Kind::Tetra => None,
+            Kind::FractalMountain => Some(0..=mountain::MAX_MOUNTAIN),
+            Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(0..=u64::MAX),
+        }
+    }
+
+    /// `--seed` when none is given.
+    pub fn default_seed(self) -> Option<u64> {
+        match self {
+            Kind::Sphereflake | Kind::Tetra => None,
+            Kind::FractalMountain => Some(mountain::DEFAULT_MOUNTAIN),
+            Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(DEFAULT_SEED),
+        }
+    }
+}
+
+/// Why a scene cannot be generated.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum GenerateError {
+    /// A size outside [`Kind::sizes`].
+    #[error("{kind}: --size {size} is out of range: {meaning} must be {min} to {max}")]
+    SizeOutOfRange {
+        /// Kind name.
+        kind: &'static str,
+        /// The size asked for.
+        size: u32,
+        /// What the size means.
+        meaning: &'static str,
+        /// Smallest accepted.
+        min: u32,
+        /// Largest accepted.
+        max: u32,
+    },
+    /// A seed for a kind that is not random.
+    #[error("{0} is not random: it takes no --seed")]
+    NotRandom(&'static str),
+    /// A seed outside [`Kind::seeds`].
+    #[error("{kind}: --seed {seed} is out of range (0 to {max})")]
+    SeedOutOfRange {
+        /// Kind name.
+        kind: &'static str,
+        /// The seed asked for.
+        seed: u64,
+        /// Largest accepted.
+        max: u64,
+    },
+}
+
+/// A checked request: kind, size and seed. 24 bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Params {
+    /// What to generate.
+    pub kind: Kind,
+    /// Size, as [`Kind::size_meaning`] says.
+    pub size: u32,
+    /// Seed (None for kinds that are not random).
+    pub seed: Option<u64>,
+}
+
+impl Params {
+    /// Check a request, filling in the defaults.
+    pub fn new(kind: Kind, size: Option<u32>, seed: Option<u64>) -> Result<Self, GenerateError> {
+        let size = size.unwrap_or(kind.default_size());
+        let sizes = kind.sizes();
+        if !sizes.contains(&size) {
+            return Err(GenerateError::SizeOutOfRange {
+                kind: kind.name(),
+                size,
+                meaning: kind.size_meaning(),
+                min: *sizes.start(),
+                max: *sizes.end(),
+            });
+        }
+        let seed = match (kind.seeds(), seed) {
+            (None, Some(_)) => return Err(GenerateError::NotRandom(kind.name())),
+            (Some(seeds), Some(seed)) if !seeds.contains(&seed) => {
+                return Err(GenerateError::SeedOutOfRange {
+                    kind: kind.name(),
+                    seed,
+                    max: *seeds.end(),
+                });
+            }
+            (_, Some(seed)) => Some(seed),
+            (_, None) => kind.default_seed(),
+        };
+        Ok(Self { kind, size, seed })
+    }
+
+    /// How many primitives the scene has.
+    pub fn primitive_count(&self) -> u64 {
+        match self.kind {
+            Kind::Sphereflake => sphereflake::primitive_count(self.size),
+            Kind::Tetra => tetra::primitive_count(self.size),
+            Kind::FractalMountain => mountain::primitive_count(self.size),
+            Kind::RandomSpheres | Kind::RandomTriangles => u64::from(self.size),
+            Kind::Terrain => terrain::primitive_count(self.size),
+        }
+    }
+
+    /// The command that writes this scene to stdout.
+    pub fn command(&self) -> String {
+        let mut command = format!("raypack gen {} --size {}", self.kind.name(), self.size);
+        if let Some(seed) = self.seed {
+            command += &format!(" --seed {seed}");
+        }
+        command
+    }
+
+    /// One line saying what the scene is.
+    pub fn title(&self) -> String {
+        let (n, count) = (self.size, self.primitive_count());
+        let seed = self.seed.unwrap_or_default();
+        match self.kind {
+            Kind::Sphereflake => format!(
+                "SPD `balls` (sphereflake), size factor {n}: {} mirror spheres + 1 floor polygon, 3 lights",
+                count - 1
+            ),
+            Kind::Tetra => {
+                format!("SPD `tetra` (Sierpinski tetrahedron), size factor {n}: {count} triangles, 1 light")
+            }
+            Kind::FractalMountain => format!(
+                "SPD `mount` (fractal mountain no. {seed}), size factor {n}: {} triangles + 4 glass spheres, 1 light",
+                count - 4
+            ),
+            Kind::RandomSpheres => format!("{count} random spheres in [-1, 1]^3, seed {seed}, 3 lights"),
+            Kind::RandomTriangles => format!("{count} random triangles in [-1, 1]^3, seed {seed}, 3 lights"),
+            Kind::Terrain => {
+                format!("diamond-square terrain, level {n}: {count} triangles, seed {seed}, 1 light")
+            }
+        }
+    }
+
+    /// Write the scene as NFF to `out`, header comments first; returns `out`
+    /// (flushed) for the caller to finish.
+    pub fn write_nff<W: Write>(&self, out: W) -> io::Result<W> {
+        let mut nff = NffWriter::new(out);
+        nff.comment(&self.title())?;
+        nff.comment(&format!("Made by: {}", self.command()))?;
+        if matches!(self.kind, Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain) {
+            nff.comment(
+                "Written from the published description of Eric Haines' Standard Procedural Databases.",
+            )?;
+        }
+        let seed = self.seed.unwrap_or_default();
+        match self.kind {
+            Kind::Sphereflake => sphereflake::write(self.size, &mut nff)?,
+            Kind::Tetra => tetra::write(self.size, &mut nff)?,
+            Kind::FractalMountain => mountain::write(self.size, seed, &mut nff)?,
+            Kind::RandomSpheres => random_spheres::write(self.size, seed, &mut nff)?,
+            Kind::RandomTriangles => random_triangles::write(self.size, seed, &mut nff)?,
+            Kind::Terrain => terrain::write(self.size, seed, &mut nff)?,
+        }
+        debug_assert_eq!(nff.primitives(), self.primitive_count(), "{:?}", self);
+        nff.finish()
+    }
+
+    /// The scene as NFF text.
+    pub fn to_nff(&self) -> String {
+        let bytes = self.write_nff(Vec::new()).expect("writing to memory cannot fail");
+        String::from_utf8(bytes).expect("NFF output is ASCII")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_classic_scenes() {
+        let p = Params::new(Kind::FractalMountain, None, None).unwrap();
+        assert_eq!((p.size, p.seed, p.primitive_count()), (4, Some(21), 8196));
+        assert_eq!(p.command(), "raypack gen fractal-mountain --size 4 --seed 21");
+        assert_eq!(
+            Params::new(Kind::Sphereflake, None, None)
+                .unwrap()
+                .primitive_count(),
+            7382
+        );
+        assert_eq!(
+            Params::new(Kind::Tetra, None, None).unwrap().primitive_count(),
+            4096
+        );
+    }
+
+    #[test]
+    fn bad_sizes_and_seeds_are_refused() {
+        assert!(matches!(
+            Params::new(Kind::Sphereflake, Some(8), None),
+            Err(GenerateError::SizeOutOfRange { max: 7, .. })
+        ));
+        assert!(matches!(
+            Params::new(Kind::RandomSpheres, Some(0), None),
+            Err(GenerateError::SizeOutOfRange { min: 1, .. })
+        ));
+        assert_eq!(
+            Params::new(Kind::Tetra, None, Some(3)),
+            Err(GenerateError::NotRandom("tetra"))
+        );
+        assert!(matches!(
+            Params::new(Kind::FractalMountain, None, Some(1 << 20)),
+            Err(GenerateError::SeedOutOfRange { .. })
+        ));
+    }
+}
