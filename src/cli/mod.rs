@@ -1,6 +1,7 @@
 //! The `raypack` command line: one file per subcommand.
 
 mod bench;
+mod info;
 
 use std::process::ExitCode;
 
@@ -21,6 +22,8 @@ pub enum Command {
     /// Measure throughput (kernels, scenes).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Describe a scene file: primitive counts, bounds, camera, lights, materials.
+    Info(info::Args),
 }
 
 /// Exit code for input the user can fix (bad scene file, unwritable output).
@@ -31,6 +34,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bench(cmd) => bench::run(cmd),
+        Command::Info(args) => info::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
