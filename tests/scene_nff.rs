@@ -384,3 +384,14 @@ fn errors_through_scene_load_name_the_file() {
     let good = dir.write("good.nff", EVERY_ENTITY);
     assert_eq!(scene::load(&good).unwrap().primitives.len(), 6);
 }
+
+#[test]
+fn zero_area_patches_keep_their_index() {
+    // A degenerate patch (two equal vertices) still takes index 0, so the sphere is 1.
+    let s = parse("pp 3\n0 0 0 0 0 1\n0 0 0 0 0 1\n1 1 0 0 0 0\ns 0 0 -5 1\n").unwrap();
+    assert_eq!(s.primitives.len(), 2);
+    assert_eq!(s.primitives[0].bounds(), None);
+    assert_eq!(s.vertex_normals[&0], [Vec3::Z, Vec3::Z, Vec3::ZERO]);
+    let hit = BruteForce::new(&s.primitives).intersect(&Ray::unbounded(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z));
+    assert_eq!((hit.prim, hit.t), (1, 9.0));
+}

@@ -27,6 +27,7 @@
 //! form `q = −(b + sgn(b)·√(b² − a·c))`, `t = q/a` and `t = c/q` (Press et al.,
 //! Numerical Recipes, §5.6), which also yields the single root of a ray parallel
 //! to a side of the cone (`a = 0`) and rejects a ray along a cylinder's axis.
+//! Hits record `(u, v) = (0, 0)`; the normal comes from the hit point.
 
 use glam::Vec3;
 
