@@ -28,7 +28,8 @@ fn mixed_scene(rng: &mut Rng, n: usize) -> Vec<Primitive> {
                 )),
                 2 => Primitive::Polygon(star_polygon()),
                 _ => {
-                    let m = Mat4::from_translation(c) * Mat4::from_scale(rng.point_in(Vec3::splat(0.2), Vec3::ONE));
+                    let m = Mat4::from_translation(c)
+                        * Mat4::from_scale(rng.point_in(Vec3::splat(0.2), Vec3::ONE));
                     let s = Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0));
                     Primitive::Transformed(Box::new(Transformed::new(s, m).unwrap()))
                 }
@@ -46,7 +47,9 @@ fn packet_and_scalar_brute_force_agree_and_find_the_nearest() {
     let accel = BruteForce::new(&prims);
     let mut hits = 0;
     for _ in 0..20_000 {
-        let rays: Vec<Ray> = (0..8).map(|_| random_ray(&mut rng, Vec3::splat(-4.0), Vec3::splat(4.0))).collect();
+        let rays: Vec<Ray> = (0..8)
+            .map(|_| random_ray(&mut rng, Vec3::splat(-4.0), Vec3::splat(4.0)))
+            .collect();
         let packet = RayPacket8::from_rays(&rays);
         let packet_hits = accel.intersect_packet(&packet);
         let occluded = accel.occluded_packet(&packet).bitmask();
@@ -61,7 +64,12 @@ fn packet_and_scalar_brute_force_agree_and_find_the_nearest() {
             for (j, p) in prims.iter().enumerate() {
                 let mut single = Hit::none(ray);
                 if p.intersect(ray, j as u32, &mut single) {
-                    assert!(single.t >= hit.t, "primitive {j} is nearer: {} < {}", single.t, hit.t);
+                    assert!(
+                        single.t >= hit.t,
+                        "primitive {j} is nearer: {} < {}",
+                        single.t,
+                        hit.t
+                    );
                 }
             }
             hits += hit.is_hit() as usize;

@@ -20,12 +20,21 @@ fn agree<K: Intersect>(name: &str, shape: &K, lo: Vec3, hi: Vec3, seed: u64) {
     // A test that never hits proves nothing: insist on a healthy mix.
     let active = stats.lanes as f64 * 0.75;
     let rate = stats.hits as f64 / active;
-    assert!((0.05..0.95).contains(&rate), "{name}: hit rate {rate} is too extreme to be a test");
+    assert!(
+        (0.05..0.95).contains(&rate),
+        "{name}: hit rate {rate} is too extreme to be a test"
+    );
 }
 
 #[test]
 fn sphere_packet_matches_scalar() {
-    agree("sphere", &Sphere::new(Vec3::new(0.5, -0.25, 1.0), 1.5), Vec3::splat(-1.0), Vec3::new(2.0, 1.25, 2.5), 1);
+    agree(
+        "sphere",
+        &Sphere::new(Vec3::new(0.5, -0.25, 1.0), 1.5),
+        Vec3::splat(-1.0),
+        Vec3::new(2.0, 1.25, 2.5),
+        1,
+    );
 }
 
 #[test]
@@ -37,13 +46,23 @@ fn implicit_plane_packet_matches_scalar() {
 #[test]
 fn point_normal_plane_packet_matches_scalar() {
     let plane = Plane::point_normal(Vec3::new(0.1, 0.2, -0.3), Vec3::new(-0.5, 1.0, 0.25)).unwrap();
-    agree("point-normal plane", &plane, Vec3::splat(-2.0), Vec3::splat(2.0), 3);
+    agree(
+        "point-normal plane",
+        &plane,
+        Vec3::splat(-2.0),
+        Vec3::splat(2.0),
+        3,
+    );
 }
 
 #[test]
 fn parametric_plane_packet_matches_scalar() {
-    let plane =
-        Plane::parametric(Vec3::new(0.5, 0.0, 0.0), Vec3::new(1.0, 0.2, 0.1), Vec3::new(-0.3, 0.1, 1.0)).unwrap();
+    let plane = Plane::parametric(
+        Vec3::new(0.5, 0.0, 0.0),
+        Vec3::new(1.0, 0.2, 0.1),
+        Vec3::new(-0.3, 0.1, 1.0),
+    )
+    .unwrap();
     agree("parametric plane", &plane, Vec3::splat(-2.0), Vec3::splat(2.0), 4);
 }
 
@@ -51,24 +70,61 @@ fn parametric_plane_packet_matches_scalar() {
 fn triangle_packet_matches_scalar() {
     // One triangle per dominant axis, so every projection is exercised.
     let triangles = [
-        Triangle::new(Vec3::new(0.1, -1.0, -1.0), Vec3::new(-0.2, 1.0, -0.5), Vec3::new(0.0, 0.0, 1.0)),
-        Triangle::new(Vec3::new(-1.0, 0.1, -1.0), Vec3::new(1.0, 0.0, -0.5), Vec3::new(0.0, -0.2, 1.0)),
-        Triangle::new(Vec3::new(-1.0, -1.0, 0.2), Vec3::new(1.0, -0.5, 0.0), Vec3::new(0.0, 1.0, -0.1)),
+        Triangle::new(
+            Vec3::new(0.1, -1.0, -1.0),
+            Vec3::new(-0.2, 1.0, -0.5),
+            Vec3::new(0.0, 0.0, 1.0),
+        ),
+        Triangle::new(
+            Vec3::new(-1.0, 0.1, -1.0),
+            Vec3::new(1.0, 0.0, -0.5),
+            Vec3::new(0.0, -0.2, 1.0),
+        ),
+        Triangle::new(
+            Vec3::new(-1.0, -1.0, 0.2),
+            Vec3::new(1.0, -0.5, 0.0),
+            Vec3::new(0.0, 1.0, -0.1),
+        ),
     ];
     for (k, tri) in triangles.iter().enumerate() {
-        agree(&format!("triangle {k}"), tri, Vec3::splat(-1.0), Vec3::splat(1.0), 10 + k as u64);
+        agree(
+            &format!("triangle {k}"),
+            tri,
+            Vec3::splat(-1.0),
+            Vec3::splat(1.0),
+            10 + k as u64,
+        );
     }
 }
 
 #[test]
 fn polygon_packet_matches_scalar() {
-    agree("star polygon", &star_polygon(), Vec3::splat(-1.0), Vec3::splat(1.0), 20);
+    agree(
+        "star polygon",
+        &star_polygon(),
+        Vec3::splat(-1.0),
+        Vec3::splat(1.0),
+        20,
+    );
     // A concave L-shape in a tilted plane.
-    let l_shape: Vec<Vec3> = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)]
-        .iter()
-        .map(|&(x, y)| Vec3::new(x, 0.5 * x - 0.25 * y, y))
-        .collect();
-    agree("L polygon", &Polygon::new(&l_shape).unwrap(), Vec3::ZERO, Vec3::splat(2.0), 21);
+    let l_shape: Vec<Vec3> = [
+        (0.0, 0.0),
+        (2.0, 0.0),
+        (2.0, 1.0),
+        (1.0, 1.0),
+        (1.0, 2.0),
+        (0.0, 2.0),
+    ]
+    .iter()
+    .map(|&(x, y)| Vec3::new(x, 0.5 * x - 0.25 * y, y))
+    .collect();
+    agree(
+        "L polygon",
+        &Polygon::new(&l_shape).unwrap(),
+        Vec3::ZERO,
+        Vec3::splat(2.0),
+        21,
+    );
 }
 
 #[test]
@@ -83,16 +139,30 @@ fn transformed_packet_matches_scalar() {
     let sheared = Mat4::from_cols_array(&[
         1.0, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 0.3, 1.0, 0.0, 0.2, 0.1, 0.0, 1.0,
     ]);
-    let triangle = Triangle::new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.1), Vec3::new(0.0, 1.0, 0.0));
+    let triangle = Triangle::new(
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.1),
+        Vec3::new(0.0, 1.0, 0.0),
+    );
     let sheared_triangle = Transformed::new(Primitive::Triangle(triangle), sheared).unwrap();
-    agree("sheared triangle", &sheared_triangle, Vec3::splat(-1.5), Vec3::splat(1.5), 31);
+    agree(
+        "sheared triangle",
+        &sheared_triangle,
+        Vec3::splat(-1.5),
+        Vec3::splat(1.5),
+        31,
+    );
 }
 
 #[test]
 fn packet_width_is_a_type_parameter() {
     // The same kernels instantiated 4 and 16 wide agree with the scalar kernels too.
     let sphere = Sphere::new(Vec3::ZERO, 1.0);
-    let tri = Triangle::new(Vec3::new(-1.0, -1.0, 0.2), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, -0.2));
+    let tri = Triangle::new(
+        Vec3::new(-1.0, -1.0, 0.2),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(0.0, 1.0, -0.2),
+    );
     let lo = Vec3::splat(-1.0);
     let hi = Vec3::splat(1.0);
     assert_packet_matches_scalar::<_, f32x4>("sphere x4", &sphere, lo, hi, 100_000, 40);
@@ -141,11 +211,16 @@ fn projected_barycentric_agrees_with_half_plane_test() {
                     assert!((a - b).abs() <= tolerance, "t differs: {a} vs {b} for {ray:?}");
                 }
                 (None, None) => {}
-                _ => panic!("tests disagree on {ray:?}, {verts:?}: projected {projected:?}, half-plane {reference:?}"),
+                _ => panic!(
+                    "tests disagree on {ray:?}, {verts:?}: projected {projected:?}, half-plane {reference:?}"
+                ),
             }
         }
     }
-    assert!(compared > N / 2 && hits > compared / 10, "compared {compared}, hits {hits}");
+    assert!(
+        compared > N / 2 && hits > compared / 10,
+        "compared {compared}, hits {hits}"
+    );
 }
 
 /// Whether the ray grazes the triangle's plane, or its plane hit lies within

@@ -24,7 +24,10 @@ fn trace<K: Intersect>(shape: &K, ray: Ray) -> Option<Hit> {
     for lane in 0..8 {
         let h = hits.hit(lane);
         match scalar {
-            Some(s) => assert!(h.prim == 7 && h.t == s.t, "lane {lane}: packet {h:?} vs scalar {s:?}"),
+            Some(s) => assert!(
+                h.prim == 7 && h.t == s.t,
+                "lane {lane}: packet {h:?} vs scalar {s:?}"
+            ),
             None => assert!(h.prim != 7, "lane {lane}: packet hit {h:?}, scalar missed"),
         }
     }
@@ -37,7 +40,11 @@ fn ray(o: [f32; 3], d: [f32; 3]) -> Ray {
 
 fn assert_t(hit: Option<Hit>, t: f32) {
     let h = hit.unwrap_or_else(|| panic!("expected a hit at t = {t}"));
-    assert!((h.t - t).abs() <= 1e-5 * t.abs().max(1.0), "t = {} expected {t}", h.t);
+    assert!(
+        (h.t - t).abs() <= 1e-5 * t.abs().max(1.0),
+        "t = {} expected {t}",
+        h.t
+    );
 }
 
 // ---- sphere -------------------------------------------------------------------
@@ -82,7 +89,11 @@ fn sphere_respects_the_interval_and_earlier_hits() {
     assert_t(trace(&s, r), 6.0);
     // An earlier hit at equal t on a lower primitive index wins the tie; a higher one loses.
     let r = ray([0.0, 0.0, -5.0], [0.0, 0.0, 1.0]);
-    let mut hit = Hit { t: 4.0, prim: 3, ..Hit::none(&r) };
+    let mut hit = Hit {
+        t: 4.0,
+        prim: 3,
+        ..Hit::none(&r)
+    };
     assert!(!s.intersect(&r, 7, &mut hit));
     hit.prim = 9;
     assert!(s.intersect(&r, 7, &mut hit) && hit.prim == 7);
@@ -114,7 +125,10 @@ fn planes_in_all_three_forms_agree() {
         // Hit from behind too (planes are two-sided for intersection).
         assert_t(trace(&p, ray([0.5, 0.5, 4.0], [0.0, 0.0, -1.0])), 2.0);
         // Oblique, with zero direction components.
-        assert_t(trace(&p, ray([0.0, 0.0, 0.0], [0.0, 1.0, 1.0])), 2.0 * 2f32.sqrt());
+        assert_t(
+            trace(&p, ray([0.0, 0.0, 0.0], [0.0, 1.0, 1.0])),
+            2.0 * 2f32.sqrt(),
+        );
         // Pointing away: miss.
         assert!(trace(&p, ray([0.0, 0.0, 0.0], [0.0, 0.0, -1.0])).is_none());
         assert!((p.normal() - Vec3::Z).length() < 1e-6);
@@ -131,7 +145,12 @@ fn rays_parallel_to_a_plane_miss_even_inside_it() {
 
 #[test]
 fn parametric_plane_reports_its_coordinates() {
-    let p = Plane::parametric(Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 4.0)).unwrap();
+    let p = Plane::parametric(
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(2.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 4.0),
+    )
+    .unwrap();
     // The point q + 0.25·i + 0.5·j = (1.5, 0, 2).
     let h = trace(&p, ray([1.5, 3.0, 2.0], [0.0, -1.0, 0.0])).unwrap();
     assert_t(Some(h), 3.0);
@@ -140,10 +159,22 @@ fn parametric_plane_reports_its_coordinates() {
 
 #[test]
 fn degenerate_planes_are_errors() {
-    assert_eq!(Plane::implicit(0.0, 0.0, 0.0, 1.0), Err(GeometryError::DegeneratePlane));
-    assert_eq!(Plane::point_normal(Vec3::ZERO, Vec3::ZERO), Err(GeometryError::DegeneratePlane));
-    assert_eq!(Plane::parametric(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X), Err(GeometryError::DegeneratePlane));
-    assert_eq!(Plane::implicit(f32::NAN, 0.0, 1.0, 1.0), Err(GeometryError::NotFinite));
+    assert_eq!(
+        Plane::implicit(0.0, 0.0, 0.0, 1.0),
+        Err(GeometryError::DegeneratePlane)
+    );
+    assert_eq!(
+        Plane::point_normal(Vec3::ZERO, Vec3::ZERO),
+        Err(GeometryError::DegeneratePlane)
+    );
+    assert_eq!(
+        Plane::parametric(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X),
+        Err(GeometryError::DegeneratePlane)
+    );
+    assert_eq!(
+        Plane::implicit(f32::NAN, 0.0, 1.0, 1.0),
+        Err(GeometryError::NotFinite)
+    );
 }
 
 // ---- triangles -----------------------------------------------------------------
@@ -158,20 +189,37 @@ fn triangle_interior_edges_and_vertices_hit() {
     let down = [0.0, 0.0, -1.0];
     let h = trace(&t, ray([0.25, 0.5, 1.0], down)).unwrap();
     assert_t(Some(h), 1.0);
-    assert!((h.u - 0.25).abs() < 1e-6 && (h.v - 0.5).abs() < 1e-6, "barycentrics {h:?}");
+    assert!(
+        (h.u - 0.25).abs() < 1e-6 && (h.v - 0.5).abs() < 1e-6,
+        "barycentrics {h:?}"
+    );
     // Exactly on each edge and each vertex (exactly representable points).
-    for p in [[0.5, 0.0], [0.0, 0.5], [0.5, 0.5], [0.0, 0.0], [1.0, 0.0], [0.0, 1.0]] {
+    for p in [
+        [0.5, 0.0],
+        [0.0, 0.5],
+        [0.5, 0.5],
+        [0.0, 0.0],
+        [1.0, 0.0],
+        [0.0, 1.0],
+    ] {
         assert_t(trace(&t, ray([p[0], p[1], 1.0], down)), 1.0);
     }
     // Just outside each edge.
     for p in [[0.5, -1e-4], [-1e-4, 0.5], [0.5 + 1e-4, 0.5 + 1e-4]] {
-        assert!(trace(&t, ray([p[0], p[1], 1.0], down)).is_none(), "{p:?} is outside");
+        assert!(
+            trace(&t, ray([p[0], p[1], 1.0], down)).is_none(),
+            "{p:?} is outside"
+        );
     }
 }
 
 #[test]
 fn triangle_hits_from_behind_and_with_zero_direction_components() {
-    let t = Triangle::new(Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0));
+    let t = Triangle::new(
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(0.0, 1.0, 1.0),
+    );
     assert_t(trace(&t, ray([0.2, 0.2, 3.0], [0.0, 0.0, -1.0])), 2.0);
     assert_t(trace(&t, ray([0.2, 0.2, -3.0], [0.0, 0.0, 1.0])), 4.0);
     // A vertical triangle (dominant axis x) hit along x.
@@ -191,9 +239,9 @@ fn triangle_parallel_rays_miss() {
 #[test]
 fn degenerate_triangles_are_never_hit() {
     let degenerate = [
-        Triangle::new(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X),         // collinear
-        Triangle::new(Vec3::ZERO, Vec3::ZERO, Vec3::Y),            // repeated vertex
-        Triangle::new(Vec3::ONE, Vec3::ONE, Vec3::ONE),            // a point
+        Triangle::new(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X), // collinear
+        Triangle::new(Vec3::ZERO, Vec3::ZERO, Vec3::Y),    // repeated vertex
+        Triangle::new(Vec3::ONE, Vec3::ONE, Vec3::ONE),    // a point
         Triangle::new(Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 0.0), Vec3::Y), // NaN vertex
     ];
     for t in &degenerate {
@@ -210,7 +258,14 @@ fn degenerate_triangles_are_never_hit() {
 
 fn l_shape() -> Polygon {
     // 2×2 square with the upper-right quarter cut out, in the plane z = 0.
-    let v = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)];
+    let v = [
+        (0.0, 0.0),
+        (2.0, 0.0),
+        (2.0, 1.0),
+        (1.0, 1.0),
+        (1.0, 2.0),
+        (0.0, 2.0),
+    ];
     Polygon::new(&v.map(|(x, y)| Vec3::new(x, y, 0.0))).unwrap()
 }
 
@@ -236,7 +291,12 @@ fn star_polygon_points_hit_and_notches_miss() {
     let star = star_polygon(); // tips at radius 1, notches at radius 0.4, plane z = 0.3x
     let a_tip = 0.0f32; // a tip direction
     let a_notch = std::f32::consts::TAU / 20.0; // halfway between a tip and a notch vertex
-    for (angle, r, inside) in [(a_tip, 0.9, true), (a_notch, 0.8, false), (a_notch, 0.2, true), (0.0, 0.0, true)] {
+    for (angle, r, inside) in [
+        (a_tip, 0.9, true),
+        (a_notch, 0.8, false),
+        (a_notch, 0.2, true),
+        (0.0, 0.0, true),
+    ] {
         let (x, y) = (r * angle.cos(), r * angle.sin());
         let hit = trace(&star, ray([x, y, 0.3 * x + 2.0], [0.0, 0.0, -1.0]));
         assert_eq!(hit.is_some(), inside, "angle {angle} r {r}");
@@ -245,10 +305,16 @@ fn star_polygon_points_hit_and_notches_miss() {
 
 #[test]
 fn polygon_validation_errors() {
-    assert_eq!(Polygon::new(&[Vec3::ZERO, Vec3::X]), Err(GeometryError::TooFewVertices(2)));
+    assert_eq!(
+        Polygon::new(&[Vec3::ZERO, Vec3::X]),
+        Err(GeometryError::TooFewVertices(2))
+    );
     let collinear = [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X, Vec3::Y];
     assert_eq!(Polygon::new(&collinear), Err(GeometryError::CollinearVertices));
-    assert_eq!(Polygon::new(&[Vec3::ZERO, Vec3::X, Vec3::INFINITY]), Err(GeometryError::NotFinite));
+    assert_eq!(
+        Polygon::new(&[Vec3::ZERO, Vec3::X, Vec3::INFINITY]),
+        Err(GeometryError::NotFinite)
+    );
 }
 
 #[test]
@@ -266,11 +332,18 @@ fn nan_and_infinite_rays_miss_on_every_kernel() {
     for p in three_forms_of_z_equals_2() {
         assert_poisoned_rays_miss("plane", &p);
     }
-    let tri = Triangle::new(Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0));
+    let tri = Triangle::new(
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    );
     assert_poisoned_rays_miss("triangle", &tri);
     assert_poisoned_rays_miss("polygon", &star_polygon());
-    let ellipsoid =
-        Transformed::new(Primitive::Sphere(sphere), Mat4::from_scale(Vec3::new(2.0, 1.0, 0.5))).unwrap();
+    let ellipsoid = Transformed::new(
+        Primitive::Sphere(sphere),
+        Mat4::from_scale(Vec3::new(2.0, 1.0, 0.5)),
+    )
+    .unwrap();
     assert_poisoned_rays_miss("transformed", &ellipsoid);
 }
 
@@ -333,7 +406,10 @@ fn transformed_sphere_is_the_analytic_ellipsoid() {
             _ => panic!("ellipsoid disagrees on {r:?}: ours {ours:?}, exact {exact:?}"),
         }
     }
-    assert!(compared > 90_000 && hits > compared / 5, "{compared} compared, {hits} hits");
+    assert!(
+        compared > 90_000 && hits > compared / 5,
+        "{compared} compared, {hits} hits"
+    );
 }
 
 #[test]
@@ -355,10 +431,16 @@ fn transformed_hits_report_world_space_t() {
 fn singular_or_projective_transforms_are_errors() {
     let sphere = Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0));
     let flat = Mat4::from_scale(Vec3::new(1.0, 0.0, 1.0));
-    assert_eq!(Transformed::new(sphere.clone(), flat), Err(GeometryError::SingularTransform));
+    assert_eq!(
+        Transformed::new(sphere.clone(), flat),
+        Err(GeometryError::SingularTransform)
+    );
     let mut projective = Mat4::IDENTITY;
     projective.x_axis.w = 0.5;
-    assert_eq!(Transformed::new(sphere.clone(), projective), Err(GeometryError::NotAffine));
+    assert_eq!(
+        Transformed::new(sphere.clone(), projective),
+        Err(GeometryError::NotAffine)
+    );
     let mut nan = Mat4::IDENTITY;
     nan.w_axis.x = f32::NAN;
     assert_eq!(Transformed::new(sphere, nan), Err(GeometryError::NotFinite));

@@ -13,7 +13,7 @@ use glam::{Mat4, Quat, Vec3};
 use wide::{f32x4, f32x8, f32x16};
 
 use crate::geometry::plane::Plane;
-use crate::geometry::{Intersect, Polygon, Primitive, Sphere, Transformed, Triangle};
+use crate::geometry::{Cone, Intersect, Polygon, Primitive, Sphere, Transformed, Triangle};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::rng::Rng;
@@ -121,6 +121,13 @@ pub fn for_each_setup(n: usize, seed: u64, visitor: &mut impl SetupVisitor) {
         name: "polygon",
         kernel: star_polygon(),
         rays: rays(Vec3::new(-1.0, -1.0, -0.3), Vec3::new(1.0, 1.0, 0.3)),
+    });
+    let cone =
+        Cone::new(Vec3::new(-0.2, -1.0, 0.1), 1.0, Vec3::new(0.2, 1.0, -0.1), 0.4).expect("valid cone");
+    visitor.visit(&KernelSetup {
+        name: "cone",
+        rays: rays(cone.bounds().min, cone.bounds().max),
+        kernel: cone,
     });
     let ellipsoid = Mat4::from_scale_rotation_translation(
         Vec3::new(1.0, 0.5, 0.25),

@@ -2,6 +2,7 @@
 
 mod bench;
 mod r#gen;
+mod info;
 
 use std::process::ExitCode;
 
@@ -25,6 +26,8 @@ pub enum Command {
     /// Generate a scene (SPD sphereflake, tetra, fractal mountain; random spheres,
     /// random triangles, terrain) as NFF.
     Gen(r#gen::GenArgs),
+    /// Describe a scene file: primitive counts, bounds, camera, lights, materials.
+    Info(info::Args),
 }
 
 /// Exit code for input the user can fix (bad scene file, unwritable output).
@@ -36,6 +39,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Bench(cmd) => bench::run(cmd),
         Command::Gen(args) => r#gen::run(args),
+        Command::Info(args) => info::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

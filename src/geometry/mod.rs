@@ -6,6 +6,7 @@
 //! if [`Hit::accepts`] it; a miss leaves the record untouched. Packet kernels do
 //! the same on every active lane and must agree with the scalar kernel lane by lane.
 
+pub mod cone;
 pub mod plane;
 pub mod polygon;
 pub mod sphere;
@@ -14,6 +15,7 @@ pub mod triangle;
 
 use glam::Vec3;
 
+pub use cone::Cone;
 pub use plane::Plane;
 pub use polygon::Polygon;
 pub use sphere::Sphere;
@@ -46,6 +48,12 @@ pub enum GeometryError {
     /// A transform that cannot be inverted.
     #[error("transform is singular")]
     SingularTransform,
+    /// A negative radius where only radii ≥ 0 make sense.
+    #[error("radius {0} is negative")]
+    NegativeRadius(f32),
+    /// A cone whose base and apex centres coincide, or whose radii are both 0.
+    #[error("cone is degenerate (base and apex centres coincide, or both radii are 0)")]
+    DegenerateCone,
 }
 
 /// A shape's intersection kernels, scalar and packet, with one contract: find
@@ -85,6 +93,8 @@ pub enum PrimitiveKind {
     Triangle,
     /// [`Polygon`].
     Polygon,
+    /// [`Cone`].
+    Cone,
     /// [`Transformed`].
     Transformed,
 }
@@ -100,6 +110,8 @@ pub enum Primitive {
     Triangle(Triangle),
     /// A planar polygon.
     Polygon(Polygon),
+    /// A cone or cylinder without end caps.
+    Cone(Cone),
     /// A primitive under an affine transform.
     Transformed(Box<Transformed>),
 }
@@ -112,6 +124,7 @@ macro_rules! dispatch {
             Primitive::Plane($p) => $body,
             Primitive::Triangle($p) => $body,
             Primitive::Polygon($p) => $body,
+            Primitive::Cone($p) => $body,
             Primitive::Transformed($p) => $body,
         }
     };
@@ -125,6 +138,7 @@ impl Primitive {
             Primitive::Plane(_) => PrimitiveKind::Plane,
             Primitive::Triangle(_) => PrimitiveKind::Triangle,
             Primitive::Polygon(_) => PrimitiveKind::Polygon,
+            Primitive::Cone(_) => PrimitiveKind::Cone,
             Primitive::Transformed(_) => PrimitiveKind::Transformed,
         }
     }
@@ -137,6 +151,7 @@ impl Primitive {
             Primitive::Plane(_) => None,
             Primitive::Triangle(t) => t.bounds(),
             Primitive::Polygon(p) => Some(p.bounds()),
+            Primitive::Cone(c) => Some(c.bounds()),
             Primitive::Transformed(t) => t.bounds(),
         }
     }
@@ -148,6 +163,7 @@ impl Primitive {
             Primitive::Plane(p) => p.normal(),
             Primitive::Triangle(t) => t.normal(),
             Primitive::Polygon(p) => p.normal(),
+            Primitive::Cone(c) => c.normal_at(ray.at(hit.t)),
             Primitive::Transformed(t) => t.geometric_normal(ray, hit),
         }
     }

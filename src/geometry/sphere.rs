@@ -7,6 +7,10 @@
 //! the centre to the point of closest approach: the same number, without the
 //! cancellation of `b² − (|p0 − c|² − r²)` for distant origins (Haines et al.,
 //! "Precision improvements for ray/sphere intersection", Ray Tracing Gems, 2019).
+//!
+//! An *inside-only* sphere (NFF's negative radius) shows only its inside: the
+//! kernels always take the far root `b + √(D/4)`, so a ray from outside passes
+//! through the front and sees the back from within, and the normal points inwards.
 
 use glam::Vec3;
 
@@ -16,13 +20,15 @@ use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, V3};
 
-/// A sphere. Kernels need unit ray directions. 16 bytes.
+/// A sphere. Kernels need unit ray directions. 20 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
     /// Centre.
     pub center: Vec3,
     /// Radius (positive).
     pub radius: f32,
+    /// Only the inside is visible (far root only, inward normal).
+    pub inside_only: bool,
 }
 
 impl Sphere {
@@ -31,6 +37,16 @@ impl Sphere {
         Self {
             center,
             radius: radius.abs(),
+            inside_only: false,
+        }
+    }
+
+    /// A sphere of centre `center` and radius `|radius|` of which only the
+    /// inside is visible (NFF's negative radius).
+    pub fn inside_only(center: Vec3, radius: f32) -> Self {
+        Self {
+            inside_only: true,
+            ..Self::new(center, radius)
         }
     }
 
@@ -39,28 +55,29 @@ impl Sphere {
         Aabb::new(self.center - self.radius, self.center + self.radius)
     }
 
-    /// Outward unit normal at surface point `p`.
+    /// Unit normal at surface point `p`: outward, or inward for an inside-only sphere.
     #[inline]
     pub fn normal_at(&self, p: Vec3) -> Vec3 {
-        (p - self.center) / self.radius
+        let outward = (p - self.center) / self.radius;
+        if self.inside_only { -outward } else { outward }
     }
 }
 
 impl Intersect for Sphere {
     /// Scalar kernel: the nearest root in the ray's interval (the far root when
-    /// the ray starts inside); tangent rays (`D = 0`) hit.
+    /// the ray starts inside, and always for an inside-only sphere); tangent rays
+    /// (`D = 0`) hit.
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         let oc = ray.origin - self.center;
         let b = -oc.dot(ray.dir);
         let l = oc + b * ray.dir;
         let quarter_disc = self.radius * self.radius - l.dot(l);
-        // `!(x >= 0)` also rejects NaN.
-        if !(quarter_disc >= 0.0) {
+        if quarter_disc.is_nan() || quarter_disc < 0.0 {
             return false;
         }
         let s = quarter_disc.sqrt();
-        let near = b - s;
+        let near = if self.inside_only { b + s } else { b - s };
         let t = if near >= ray.t_min { near } else { b + s };
         if !hit.accepts(t, ray.t_min, prim) {
             return false;
@@ -77,7 +94,7 @@ impl Intersect for Sphere {
         let l = oc + rays.dir.scale(b);
         let quarter_disc = F::splat(self.radius * self.radius) - l.dot(l);
         let s = quarter_disc.sqrt();
-        let near = b - s;
+        let near = if self.inside_only { b + s } else { b - s };
         let t = near.ge(rays.t_min).select(near, b + s);
         let mask = hits.accepts(rays, t, prim) & quarter_disc.ge(F::splat(0.0));
         let zero = F::splat(0.0);

@@ -1,6 +1,9 @@
 //! Scenes: primitives in file order, their materials, lights and camera, and the
 //! loaders that read them (one file per format under `scene/`).
 //!
+//! Readers: [`nff`] (the SPD's Neutral File Format) and [`native`] (TOML, for
+//! what NFF cannot say); [`load`] picks one by file extension.
+//!
 //! One primitive numbering serves every format: a primitive's index is its
 //! position in file order (NFF: each `s`/`p`/`pp`/`c` entity; OBJ/PLY: each
 //! face), so hit records can be compared ray by ray with any other engine.
@@ -8,6 +11,8 @@
 pub mod generate;
 mod input;
 mod mesh;
+pub mod native;
+pub mod nff;
 pub mod obj;
 pub mod ply;
 
@@ -19,7 +24,7 @@ use glam::Vec3;
 
 use crate::bounds::Aabb;
 use crate::camera::{Camera, CameraError};
-use crate::geometry::{Primitive, PrimitiveKind};
+use crate::geometry::{GeometryError, Primitive, PrimitiveKind};
 
 /// A Phong/Whitted surface, as NFF's `f` line describes it. 32 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -224,6 +229,8 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         None => "",
     };
     match extension {
+        "nff" => nff::load(path),
+        "toml" => native::load(path),
         "obj" => obj::load(path),
         "ply" => ply::load(path),
         "ply.gz" => ply::load(path),
@@ -231,5 +238,28 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
             path,
             "unknown scene format (expected .nff, .obj, .ply, .ply.gz or .toml)",
         )),
+    }
+}
+
+/// A geometry error of an object read from a file, worded "expected …, found …".
+pub fn geometry_message(e: &GeometryError) -> String {
+    match e {
+        GeometryError::CollinearVertices => "expected a polygon whose first three vertices span a plane \
+                                             (they fix its normal), found them collinear"
+            .into(),
+        GeometryError::TooFewVertices(n) => format!("expected a polygon of at least 3 vertices, found {n}"),
+        GeometryError::NegativeRadius(r) => format!("expected a radius ≥ 0, found {r}"),
+        GeometryError::DegenerateCone => {
+            "expected a cone with distinct base and apex centres and a radius > 0, \
+                                          found a degenerate one"
+                .into()
+        }
+        GeometryError::DegeneratePlane => {
+            "expected a plane with a non-zero normal, found a zero normal (or parallel spanning vectors)"
+                .into()
+        }
+        GeometryError::NotFinite => "expected finite coordinates, found NaN or infinity".into(),
+        GeometryError::NotAffine => "expected an affine transform (bottom row 0 0 0 1), found another".into(),
+        GeometryError::SingularTransform => "expected an invertible transform, found a singular one".into(),
     }
 }

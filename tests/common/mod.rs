@@ -21,7 +21,10 @@ pub fn random_ray(rng: &mut Rng, lo: Vec3, hi: Vec3) -> Ray {
         // From inside the box.
         2 => (rng.point_in(lo, hi), rng.point_in(lo - size, hi + size)),
         // Anywhere near, in any direction.
-        _ => (rng.point_in(lo - size, hi + size), rng.point_in(lo - size, hi + size)),
+        _ => (
+            rng.point_in(lo - size, hi + size),
+            rng.point_in(lo - size, hi + size),
+        ),
     };
     let dir = (target - origin).try_normalize().unwrap_or(Vec3::Z);
     let (t_min, t_max) = match rng.below(4) {
@@ -109,7 +112,10 @@ pub fn assert_packet_matches_scalar<K: Intersect, F: SimdFloat>(
                     (got.u - want.u).abs() <= 1e-4 && (got.v - want.v).abs() <= 1e-4,
                     "{name}: lane {i} (u, v) differ: packet {got:?}, scalar {want:?}"
                 );
-                assert!(want.t.is_finite() && want.prim == PRIM, "{name}: bad record {want:?}");
+                assert!(
+                    want.t.is_finite() && want.prim == PRIM,
+                    "{name}: bad record {want:?}"
+                );
             } else {
                 assert!(want.prim == priors[i].prim || want.prim == NO_HIT);
             }
@@ -128,7 +134,12 @@ pub fn poisoned_rays() -> Vec<(Ray, bool)> {
             let mut v = [0.1f32, 0.2, 5.0, 0.05, 0.02, -1.0, 0.0, f32::INFINITY];
             v[field] = bad;
             let must_miss = bad.is_nan() || field < 6;
-            let ray = Ray::new(Vec3::new(v[0], v[1], v[2]), Vec3::new(v[3], v[4], v[5]), v[6], v[7]);
+            let ray = Ray::new(
+                Vec3::new(v[0], v[1], v[2]),
+                Vec3::new(v[3], v[4], v[5]),
+                v[6],
+                v[7],
+            );
             rays.push((ray, must_miss));
         }
         rays.push((Ray::new(Vec3::splat(bad), Vec3::splat(bad), bad, bad), true));
@@ -144,15 +155,24 @@ pub fn assert_poisoned_rays_miss<K: Intersect>(name: &str, shape: &K) {
     for (ray, must_miss) in poisoned_rays() {
         let mut hit = Hit::none(&ray);
         let updated = shape.intersect(&ray, 0, &mut hit);
-        assert!(!(must_miss && updated), "{name}: scalar hit poisoned ray {ray:?}: {hit:?}");
-        assert!(!updated || hit.t.is_finite(), "{name}: scalar recorded {hit:?} for {ray:?}");
+        assert!(
+            !(must_miss && updated),
+            "{name}: scalar hit poisoned ray {ray:?}: {hit:?}"
+        );
+        assert!(
+            !updated || hit.t.is_finite(),
+            "{name}: scalar recorded {hit:?} for {ray:?}"
+        );
         let packet = RayPacket::<wide::f32x8>::from_rays(&[ray; 8]);
         let mut hits = HitPacket::none(&packet);
         shape.intersect_packet(&packet, 0, &mut hits);
         for i in 0..8 {
             let h = hits.hit(i);
             assert_eq!(h.prim, hit.prim, "{name}: packet and scalar differ on {ray:?}");
-            assert!(h.prim == NO_HIT || h.t.is_finite(), "{name}: packet recorded {h:?} for {ray:?}");
+            assert!(
+                h.prim == NO_HIT || h.t.is_finite(),
+                "{name}: packet recorded {h:?} for {ray:?}"
+            );
         }
     }
 }

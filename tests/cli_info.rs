@@ -1,0 +1,108 @@
+//! `raypack info`: works on every scene (text and JSON), and exits 2 with
+//! `file:line: message` and nothing on stdout for a bad one.
+
+mod scratch;
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use scratch::Scratch;
+
+fn info(args: &[&std::ffi::OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raypack"))
+        .arg("info")
+        .args(args)
+        .output()
+        .expect("run raypack")
+}
+
+#[test]
+fn info_describes_every_scene() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if !path.extension().is_some_and(|e| e == "nff" || e == "toml") {
+            continue;
+        }
+        let scene = raypack::scene::load(&path).unwrap();
+        let out = info(&[path.as_os_str()]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            text.contains(&format!("primitives  {}\n", scene.primitives.len())),
+            "{text}"
+        );
+        assert!(
+            text.contains(&format!("lights      {}\n", scene.lights.len())),
+            "{text}"
+        );
+        for (kind, n) in scene.counts() {
+            assert!(
+                text.contains(&format!("{:<12} {n}\n", format!("{kind:?}").to_lowercase())),
+                "{text}"
+            );
+        }
+        let out = info(&[path.as_os_str(), "--json".as_ref()]);
+        assert!(out.status.success());
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+        assert_eq!(json["primitives"], scene.primitives.len());
+        assert_eq!(json["lights"].as_array().unwrap().len(), scene.lights.len());
+        assert_eq!(json["materials"].as_array().unwrap().len(), scene.materials.len());
+        let counted: u64 = json["counts"]
+            .as_object()
+            .unwrap()
+            .values()
+            .map(|v| v.as_u64().unwrap())
+            .sum();
+        assert_eq!(counted as usize, scene.primitives.len());
+        assert_eq!(json["camera"].is_null(), scene.camera.is_none());
+        assert!(json["bounds"]["min"].is_array() && json["load_seconds"].as_f64().unwrap() >= 0.0);
+        checked += 1;
+    }
+    assert!(checked >= 3);
+}
+
+#[test]
+fn info_on_a_bad_scene_exits_2_with_file_and_line() {
+    let dir = Scratch::new("cli-info");
+    let cases = [
+        ("truncated.nff", "s 0 0 0 1\np 3\n0 0 0\n1 0 0\n", ":4: expected"),
+        ("garbage.nff", "\u{1}\u{2}\u{3}", ":1: expected"),
+        (
+            "wrong.toml",
+            "[[objects]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = \"x\"\n",
+            ":4: expected",
+        ),
+        ("unknown.obj2", "", ": unknown scene format"),
+    ];
+    for (name, text, needle) in cases {
+        let path = dir.write(name, text);
+        for json in [false, true] {
+            let mut args = vec![path.as_os_str()];
+            if json {
+                args.push("--json".as_ref());
+            }
+            let out = info(&args);
+            assert_eq!(out.status.code(), Some(2), "{name}");
+            assert!(
+                out.stdout.is_empty(),
+                "{name}: stdout {:?}",
+                String::from_utf8_lossy(&out.stdout)
+            );
+            let err = String::from_utf8(out.stderr).unwrap();
+            assert!(
+                err.starts_with(&format!("error: {}{needle}", path.display())),
+                "{name}: {err}"
+            );
+        }
+    }
+    let out = info(&[dir.path().join("missing.nff").as_os_str()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.nff: cannot read"));
+}

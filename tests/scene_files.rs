@@ -1,0 +1,137 @@
+//! The curated scenes in `scenes/`: each loads (twice, identically), says what
+//! it shows in a header comment, and shows from its camera what it claims to.
+
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+
+use raypack::accel::{Accel, BruteForce};
+use raypack::geometry::{Plane as PlaneForm, Primitive, PrimitiveKind};
+use raypack::scene::{self, Scene};
+
+/// Every `.nff` and `.toml` file under `scenes/`.
+fn scene_files() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("scenes/ exists")
+        .map(|e| e.expect("readable entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "nff" || e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+fn load(name: &str) -> Scene {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn every_scene_file_loads_twice_identically_and_has_a_header() {
+    let files = scene_files();
+    assert!(files.len() >= 3, "{files:?}");
+    for path in files {
+        let a = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let b = scene::load(&path).unwrap();
+        assert!(!a.primitives.is_empty(), "{}", path.display());
+        assert_eq!(a.primitives, b.primitives, "{}", path.display());
+        assert_eq!(
+            (&a.material_of, &a.vertex_normals),
+            (&b.material_of, &b.vertex_normals)
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        assert!(
+            text.starts_with(&format!("# {name} — ")),
+            "{name} lacks its header comment"
+        );
+    }
+}
+
+/// The primitives hit by primary rays through a `w × h` grid of the scene's camera.
+fn visible(scene: &Scene, w: u32, h: u32) -> BTreeSet<u32> {
+    let camera = scene
+        .camera
+        .expect("the scene has a camera")
+        .camera_at(w, h)
+        .unwrap();
+    let accel = BruteForce::new(&scene.primitives);
+    (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| accel.intersect(&camera.pixel_ray(i, j)).prim)
+        .collect()
+}
+
+#[test]
+fn lecture_scene_has_one_of_every_primitive_in_view() {
+    let s = load("lecture.toml");
+    let kinds: BTreeSet<PrimitiveKind> = s.primitives.iter().map(Primitive::kind).collect();
+    use PrimitiveKind::*;
+    assert_eq!(
+        kinds,
+        BTreeSet::from([Sphere, Plane, Triangle, Polygon, Cone, Transformed])
+    );
+    let forms: Vec<&str> = s
+        .primitives
+        .iter()
+        .filter_map(|p| match p {
+            Primitive::Plane(PlaneForm::Implicit(_)) => Some("implicit"),
+            Primitive::Plane(PlaneForm::PointNormal(_)) => Some("point-normal"),
+            Primitive::Plane(PlaneForm::Parametric(_)) => Some("parametric"),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(forms, ["implicit", "point-normal", "parametric"]);
+    let Primitive::Transformed(egg) = &s.primitives[4] else {
+        panic!("primitive 4 is the ellipsoid")
+    };
+    assert_eq!(egg.object().kind(), Sphere);
+    // The mesh: 20 smooth triangles after the eight single objects.
+    assert_eq!(s.primitives.len(), 28);
+    assert!((8..28).all(|i| s.vertex_normals.contains_key(&i)));
+    assert_eq!(s.lights.len(), 2);
+    let camera = s.camera.unwrap();
+    assert_ne!(camera.fovx, camera.fovy);
+    // From the camera every object is seen, and several faces of the mesh.
+    let seen = visible(&s, 160, 120);
+    for prim in 0..8 {
+        assert!(seen.contains(&prim), "primitive {prim} is not in view");
+    }
+    assert!(seen.range(8..28).count() >= 5, "{seen:?}");
+}
+
+#[test]
+fn mirror_glass_scene_has_mirrors_glass_and_lights_in_view() {
+    let s = load("mirror_glass.nff");
+    let material = |prim: u32| s.material(prim);
+    let mirrors = [121, 122];
+    let glass = [134, 135];
+    for m in mirrors {
+        assert_eq!(s.primitives[m as usize].kind(), PrimitiveKind::Polygon);
+        assert!(material(m).ks >= 0.8, "mirror {m}");
+    }
+    for g in glass {
+        assert_eq!(s.primitives[g as usize].kind(), PrimitiveKind::Sphere);
+        assert!(
+            material(g).transmittance > 0.5 && material(g).ior > 1.0,
+            "glass {g}"
+        );
+    }
+    let Primitive::Sphere(dome) = &s.primitives[0] else {
+        panic!("primitive 0 is the sky")
+    };
+    assert!(dome.inside_only);
+    assert_eq!(
+        s.primitives
+            .iter()
+            .filter(|p| p.kind() == PrimitiveKind::Cone)
+            .count(),
+        6
+    );
+    assert_eq!(s.lights.len(), 3);
+    let seen = visible(&s, 128, 128);
+    for prim in mirrors.into_iter().chain(glass).chain([133, 136, 0]) {
+        assert!(seen.contains(&prim), "primitive {prim} is not in view");
+    }
+}
