@@ -6,6 +6,7 @@
 //! if [`Hit::accepts`] it; a miss leaves the record untouched. Packet kernels do
 //! the same on every active lane and must agree with the scalar kernel lane by lane.
 
+pub mod ear_clip;
 pub mod plane;
 pub mod polygon;
 pub mod sphere;
