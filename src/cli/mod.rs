@@ -1,6 +1,9 @@
 //! The `raypack` command line: one file per subcommand.
 
 mod bench;
+mod check;
+mod scene_arg;
+mod trace;
 
 use std::process::ExitCode;
 
@@ -21,6 +24,10 @@ pub enum Command {
     /// Measure throughput (kernels, scenes).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Compare raypack with Embree ray by ray (needs the `embree` feature).
+    Check(check::CheckArgs),
+    /// Trace rays from a CSV file and write each nearest hit to a CSV file.
+    Trace(trace::TraceArgs),
 }
 
 /// Exit code for input the user can fix (bad scene file, unwritable output).
@@ -31,6 +38,8 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bench(cmd) => bench::run(cmd),
+        Command::Check(args) => check::run(args),
+        Command::Trace(args) => trace::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

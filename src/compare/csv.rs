@@ -20,22 +20,32 @@ pub const RAYS_HEADER: &str = "ox,oy,oz,dx,dy,dz,tmin,tmax";
 pub const HITS_HEADER: &str = "t,prim";
 
 /// A rays file that cannot be read: where and what was expected.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{path}:{line}: {message}")]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CsvError {
     /// The file.
     pub path: String,
-    /// 1-based line number (0 when the file itself cannot be read).
-    pub line: usize,
+    /// 1-based line number; None when the file itself cannot be read.
+    pub line: Option<usize>,
     /// What was wrong or expected.
     pub message: String,
 }
+
+impl std::fmt::Display for CsvError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}:{}: {}", self.path, line, self.message),
+            None => write!(f, "{}: {}", self.path, self.message),
+        }
+    }
+}
+
+impl std::error::Error for CsvError {}
 
 /// Parse the text of a rays file; `path` names it in errors.
 pub fn parse_rays(path: &str, text: &str) -> Result<Vec<Ray>, CsvError> {
     let error = |line: usize, message: String| CsvError {
         path: path.to_string(),
-        line,
+        line: Some(line),
         message,
     };
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
@@ -91,7 +101,7 @@ pub fn read_rays(path: &Path) -> Result<Vec<Ray>, CsvError> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| CsvError {
         path: name.clone(),
-        line: 0,
+        line: None,
         message: format!("cannot read: {e}"),
     })?;
     parse_rays(&name, &text)

@@ -51,6 +51,34 @@ pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
     Some(scene_of(format!("generated:{name}:{n}:{seed}"), prims))
 }
 
+/// The scene named by a command-line argument `gen:NAME[:N[:SEED]]` (N
+/// primitives, 1000 by default; seed 1 by default); None when `spec` does not
+/// start with `gen:`.
+pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
+    let rest = spec.strip_prefix("gen:")?;
+    let mut parts = rest.split(':');
+    let name = parts.next().unwrap_or_default();
+    let number = |part: Option<&str>, default: u64, what: &str| match part {
+        None => Ok(default),
+        Some(p) => p
+            .parse::<u64>()
+            .map_err(|_| format!("{spec}: {what} must be a whole number, got `{p}`")),
+    };
+    Some((|| {
+        let n = number(parts.next(), 1000, "the primitive count")?;
+        let seed = number(parts.next(), 1, "the seed")?;
+        if parts.next().is_some() {
+            return Err(format!("{spec}: expected gen:NAME[:N[:SEED]]"));
+        }
+        by_name(name, n as usize, seed).ok_or_else(|| {
+            format!(
+                "{spec}: unknown generated scene `{name}` (one of {})",
+                NAMES.join(", ")
+            )
+        })
+    })())
+}
+
 /// A scene of `prims`, one default material, and a camera framing them.
 pub fn scene_of(source: String, prims: Vec<Primitive>) -> Scene {
     let mut scene = Scene {
@@ -248,6 +276,22 @@ mod tests {
             assert!(a.camera.unwrap().camera().is_ok(), "{name}");
         }
         assert!(by_name("nothing", 10, 1).is_none());
+    }
+
+    #[test]
+    fn specs_name_generated_scenes_or_say_what_is_wrong() {
+        assert!(from_spec("scenes/balls.nff").is_none());
+        let s = from_spec("gen:spheres:50:3").unwrap().unwrap();
+        assert_eq!(s.primitives.len(), 50);
+        assert_eq!(s.primitives, by_name("spheres", 50, 3).unwrap().primitives);
+        assert_eq!(
+            from_spec("gen:mesh").unwrap().unwrap().source,
+            "generated:mesh:1000:1"
+        );
+        let err = |spec: &str| from_spec(spec).unwrap().unwrap_err();
+        assert!(err("gen:cubes").contains("unknown generated scene `cubes`"));
+        assert!(err("gen:spheres:many").contains("the primitive count must be a whole number"));
+        assert!(err("gen:spheres:5:1:2").contains("expected gen:NAME[:N[:SEED]]"));
     }
 
     #[test]

@@ -1,8 +1,9 @@
 //! Flush-to-zero and denormals-are-zero (FTZ/DAZ) for the calling thread.
 //!
 //! Embree expects both MXCSR flags set: its kernels are tuned for them, and a
-//! device warns when they are not. The mode is per thread, so every thread that
-//! traces through Embree sets it; it stays set afterwards. For a fair comparison
+//! verbose device warns when they are not. The mode is per thread (new threads
+//! inherit their creator's), so every thread that traces through Embree sets
+//! it; it stays set afterwards. For a fair comparison
 //! the benchmarks set it for raypack's threads as well.
 
 /// MXCSR bit 15 (flush results to zero) and bit 6 (treat denormal inputs as zero).

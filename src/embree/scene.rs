@@ -210,6 +210,7 @@ pub struct EmbreeScene {
     /// By Embree geometry id.
     geoms: Vec<GeomMap>,
     stats: TranslationStats,
+    robust: bool,
     primitives: usize,
     device: Arc<Device>,
 }
@@ -221,8 +222,25 @@ unsafe impl Send for EmbreeScene {}
 unsafe impl Sync for EmbreeScene {}
 
 impl EmbreeScene {
-    /// Translate `prims` (see [`translate`](super::translate)) and build Embree's BVH.
+    /// Translate `prims` (see [`translate`](super::translate)) and build Embree's
+    /// BVH with Embree's default (fast) scene flags: what the throughput
+    /// comparisons use.
     pub fn new(device: Arc<Device>, prims: &[Primitive]) -> Result<Self, EmbreeError> {
+        Self::build(device, prims, sys::RTCSceneFlags::NONE)
+    }
+
+    /// As [`EmbreeScene::new`], in Embree's robust mode (`RTC_SCENE_FLAG_ROBUST`):
+    /// slower, but its triangle test is watertight, so no ray slips through an
+    /// edge or vertex shared by two triangles. The reference for correctness checks.
+    pub fn robust(device: Arc<Device>, prims: &[Primitive]) -> Result<Self, EmbreeError> {
+        Self::build(device, prims, sys::RTCSceneFlags::ROBUST)
+    }
+
+    fn build(
+        device: Arc<Device>,
+        prims: &[Primitive],
+        flags: sys::RTCSceneFlags,
+    ) -> Result<Self, EmbreeError> {
         flush_denormals();
         let mut stats = TranslationStats::default();
         let (mut triangles, mut triangle_prims) = (Vec::new(), Vec::new());
@@ -280,15 +298,23 @@ impl EmbreeScene {
             geoms.push(GeomMap::Prims(user.indices()));
             Some(user)
         };
+        // SAFETY: a valid, uncommitted scene.
+        unsafe { sys::rtcSetSceneFlags(scene.raw(), flags) };
         scene.commit(&device, "building the BVH")?;
         Ok(Self {
             scene,
             _user: user,
             geoms,
             stats,
+            robust: flags == sys::RTCSceneFlags::ROBUST,
             primitives: prims.len(),
             device,
         })
+    }
+
+    /// The committed `RTCScene`, for calling Embree directly.
+    pub fn raw_scene(&self) -> sys::RTCScene {
+        self.scene.raw()
     }
 
     /// The device the scene was built on.
@@ -299,6 +325,11 @@ impl EmbreeScene {
     /// How the primitives were translated.
     pub fn stats(&self) -> TranslationStats {
         self.stats
+    }
+
+    /// Whether the scene was built in robust mode ([`EmbreeScene::robust`]).
+    pub fn is_robust(&self) -> bool {
+        self.robust
     }
 
     /// Number of raypack primitives.
