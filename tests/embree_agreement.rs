@@ -34,18 +34,20 @@ fn device() -> Arc<Device> {
     Arc::new(Device::with_default_config().expect("Embree device"))
 }
 
-/// Compare on the scene camera's primary rays and `random` random rays, both kernels.
-fn check_scene(scene: &Scene, embree: &EmbreeScene, random: usize) {
+/// Compare on the scene camera's primary rays (at most `side` pixels a side)
+/// and `random` random rays, both kernels.
+fn check_scene(scene: &Scene, embree: &EmbreeScene, side: u32, random: usize) {
     let max_t_error = if embree.stats().instances > scene.primitives.len() / 2 {
         MAX_T_ERROR_P99_INSTANCED
     } else {
         MAX_T_ERROR_P99
     };
     let raypack = BruteForce::new(&scene.primitives);
-    let camera = scene
-        .camera
-        .unwrap_or_else(|| scene.default_camera())
-        .camera()
+    let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
+    let scale = (side as f32 / spec.width.max(spec.height) as f32).min(1.0);
+    let size = |n: u32| ((n as f32 * scale).round() as u32).max(1);
+    let camera = spec
+        .camera_at(size(spec.width), size(spec.height))
         .expect("camera");
     let sets = [
         ("primary", primary_rays(&camera)),
@@ -88,7 +90,7 @@ fn generated_scenes_agree_with_robust_embree() {
     for name in NAMES {
         let scene = test_scenes::by_name(name, 600, 11).unwrap();
         let embree = EmbreeScene::robust(device.clone(), &scene.primitives).expect("Embree scene");
-        check_scene(&scene, &embree, 100_000);
+        check_scene(&scene, &embree, 256, 100_000);
     }
 }
 
@@ -96,7 +98,7 @@ fn generated_scenes_agree_with_robust_embree() {
 fn fast_mode_embree_meets_the_same_bars() {
     let scene = test_scenes::by_name("mixed", 600, 12).unwrap();
     let embree = EmbreeScene::new(device(), &scene.primitives).expect("Embree scene");
-    check_scene(&scene, &embree, 100_000);
+    check_scene(&scene, &embree, 256, 100_000);
 }
 
 #[test]
@@ -115,10 +117,11 @@ fn scene_files_agree_with_robust_embree() {
     let device = device();
     for path in &files {
         let scene = raypack::scene::load(path).unwrap_or_else(|e| panic!("{e}"));
-        // Brute force is the reference: keep the ray count reasonable for big files.
-        let random = (20_000_000 / scene.primitives.len().max(1)).clamp(1000, 100_000);
+        // raypack traces by brute force: keep rays × primitives near 2·10⁸ per set.
+        let budget = 200_000_000 / scene.primitives.len().max(1);
+        let side = ((budget as f64).sqrt() as u32).clamp(16, 512);
         let embree = EmbreeScene::robust(device.clone(), &scene.primitives).expect("Embree scene");
-        check_scene(&scene, &embree, random);
+        check_scene(&scene, &embree, side, budget.clamp(1000, 100_000));
     }
     eprintln!("{} scene files checked in {}", files.len(), dir.display());
 }

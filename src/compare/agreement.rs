@@ -6,7 +6,7 @@
 //! | --- | --- |
 //! | both miss | agree |
 //! | same primitive | both hit the same primitive; its relative t error counts in the quantiles |
-//! | tie | both hit, different primitives, t equal within the tolerance: a ray through an edge or vertex shared by two primitives (or through coincident surfaces), where each engine may pick either one |
+//! | tie | both hit, different primitives, t equal within the tolerance: a ray through an edge or vertex shared by two primitives, or through a point where two surfaces cross or coincide; each engine may pick either one |
 //! | different primitive | both hit, different primitives at different t: a real disagreement |
 //! | hit / miss | one engine hits, the other misses: a real disagreement (near silhouettes, usually) |
 //!

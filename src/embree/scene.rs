@@ -197,7 +197,7 @@ enum GeomMap {
     Instance(u32),
 }
 
-/// raypack primitives in an Embree scene. 120 bytes plus the maps (4 bytes per
+/// raypack primitives in an Embree scene. 112 bytes plus the maps (4 bytes per
 /// Embree primitive), the user primitives and Embree's own data.
 ///
 /// Fields drop in declaration order: the scenes are released before the user

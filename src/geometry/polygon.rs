@@ -28,7 +28,7 @@ struct Edge {
     dx_dy: f32,
 }
 
-/// A planar polygon. 64 bytes, plus 16 bytes per non-horizontal edge and 12 per vertex.
+/// A planar polygon. 80 bytes, plus 16 bytes per non-horizontal edge and 12 per vertex.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Polygon {
     /// Unit normal, fixed by the first three vertices (counter-clockwise = front).
