@@ -2,6 +2,8 @@
 //! rays with raypack and with Embree and report how well they agree: hit/miss,
 //! same primitive, ties on shared edges, relative t error (p50, p99, max), and
 //! the first disagreeing rays with their coordinates. Exits 1 below the bars.
+//! Both engines trace the same rays on the same rayon threads, with FTZ/DAZ set;
+//! raypack's side is brute force until the BVH lands.
 
 use clap::Args;
 
@@ -98,7 +100,7 @@ mod with_embree {
     use crate::compare::{
         Agreement, AgreementOptions, EmbreeMode, Kernel, RaySet, primary_rays, random_rays, trace_rays,
     };
-    use crate::embree::{Device, EmbreeScene};
+    use crate::embree::{Device, EmbreeScene, flush_denormals};
     use crate::ray::Ray;
     use crate::scene::Scene;
 
@@ -125,6 +127,8 @@ mod with_embree {
 
     /// Run `check`.
     pub fn run(args: CheckArgs) -> CliResult {
+        // Both engines run with FTZ/DAZ, as Embree wants, on every worker thread.
+        rayon::broadcast(|_| flush_denormals());
         let scene = load_scene(&args.scene)?;
         let embree = embree_scene(&scene, &args.embree_config, args.embree_mode)?;
         let raypack = BruteForce::new(&scene.primitives);
