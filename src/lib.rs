@@ -11,6 +11,9 @@ pub mod bench;
 pub mod bounds;
 pub mod camera;
 pub mod cli;
+pub mod compare;
+#[cfg(feature = "embree")]
+pub mod embree;
 pub mod geometry;
 pub mod packet;
 pub mod ray;

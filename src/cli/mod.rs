@@ -1,8 +1,11 @@
 //! The `raypack` command line: one file per subcommand.
 
 mod bench;
+mod check;
 mod r#gen;
 mod info;
+mod scene_arg;
+mod trace;
 
 use std::process::ExitCode;
 
@@ -28,6 +31,10 @@ pub enum Command {
     Gen(r#gen::GenArgs),
     /// Describe a scene file: primitive counts, bounds, camera, lights, materials.
     Info(info::Args),
+    /// Compare raypack with Embree ray by ray (needs the `embree` feature).
+    Check(check::CheckArgs),
+    /// Trace rays from a CSV file and write each nearest hit to a CSV file.
+    Trace(trace::TraceArgs),
 }
 
 /// Exit code for input the user can fix (bad scene file, unwritable output).
@@ -40,6 +47,8 @@ pub fn main() -> ExitCode {
         Command::Bench(cmd) => bench::run(cmd),
         Command::Gen(args) => r#gen::run(args),
         Command::Info(args) => info::run(args),
+        Command::Check(args) => check::run(args),
+        Command::Trace(args) => trace::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,6 +7,7 @@
 //! the same on every active lane and must agree with the scalar kernel lane by lane.
 
 pub mod cone;
+pub mod ear_clip;
 pub mod plane;
 pub mod polygon;
 pub mod sphere;

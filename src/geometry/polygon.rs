@@ -28,7 +28,7 @@ struct Edge {
     dx_dy: f32,
 }
 
-/// A planar polygon. 48 bytes plus 16 bytes per non-horizontal edge.
+/// A planar polygon. 80 bytes, plus 16 bytes per non-horizontal edge and 12 per vertex.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Polygon {
     /// Unit normal, fixed by the first three vertices (counter-clockwise = front).
@@ -41,6 +41,8 @@ pub struct Polygon {
     edges: Box<[Edge]>,
     /// Bounding box of the vertices.
     bounds: Aabb,
+    /// The vertices as given (for exporters and triangulation; the kernels use `edges`).
+    vertices: Box<[Vec3]>,
 }
 
 impl Polygon {
@@ -82,6 +84,7 @@ impl Polygon {
             k: k as u32,
             edges,
             bounds: Aabb::from_points(vertices.iter().copied()),
+            vertices: vertices.into(),
         })
     }
 
@@ -93,6 +96,16 @@ impl Polygon {
     /// Bounding box.
     pub fn bounds(&self) -> Aabb {
         self.bounds
+    }
+
+    /// The vertices in the order given.
+    pub fn vertices(&self) -> &[Vec3] {
+        &self.vertices
+    }
+
+    /// The polygon's plane `⟨normal, p⟩ = d` (fixed by the first three vertices).
+    pub fn plane_offset(&self) -> f32 {
+        self.d
     }
 
     /// Number of edges that take part in the crossing test.

@@ -73,6 +73,7 @@ impl Intersect for Sphere {
         let b = -oc.dot(ray.dir);
         let l = oc + b * ray.dir;
         let quarter_disc = self.radius * self.radius - l.dot(l);
+        // A miss, or NaN from non-finite input.
         if quarter_disc.is_nan() || quarter_disc < 0.0 {
             return false;
         }

@@ -1,0 +1,78 @@
+//! `raypack trace SCENE --rays RAYS.csv --out HITS.csv [--engine raypack|embree]`:
+//! trace rays from a CSV file and write the nearest hit of each, so raypack can
+//! be compared with any engine (formats in [`crate::compare::csv`]).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::anyhow;
+use clap::Args;
+
+use crate::accel::BruteForce;
+use crate::cli::scene_arg::load_scene;
+use crate::cli::{CliError, CliResult};
+use crate::compare::csv::{format_hits, read_rays, write_atomically};
+use crate::compare::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Engine, Kernel, trace_rays};
+use crate::ray::{Hit, Ray};
+use crate::scene::Scene;
+
+/// Options of `trace`.
+#[derive(Args, Debug)]
+pub struct TraceArgs {
+    /// Scene file, or `gen:NAME[:N[:SEED]]` for a generated scene.
+    pub scene: String,
+    /// Rays: CSV with header `ox,oy,oz,dx,dy,dz,tmin,tmax`.
+    #[arg(long)]
+    pub rays: PathBuf,
+    /// Hits: CSV with header `t,prim` (`inf,-1` on a miss), written whole or not at all.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Engine that traces (raypack uses brute force until the BVH lands).
+    #[arg(long, value_enum, default_value_t = Engine::Raypack)]
+    pub engine: Engine,
+    /// Single rays or 8-wide packets (Embree: rtcIntersect1 or rtcIntersect8).
+    #[arg(long, value_enum, default_value_t = Kernel::Packet8)]
+    pub kernel: Kernel,
+    /// Embree device configuration.
+    #[arg(long, default_value = DEFAULT_EMBREE_CONFIG)]
+    pub embree_config: String,
+    /// Embree scene mode.
+    #[arg(long, value_enum, default_value_t = EmbreeMode::Robust)]
+    pub embree_mode: EmbreeMode,
+}
+
+/// Run `trace`.
+pub fn run(args: TraceArgs) -> CliResult {
+    let scene = load_scene(&args.scene)?;
+    let rays = read_rays(&args.rays).map_err(|e| CliError::BadInput(e.into()))?;
+    let start = Instant::now();
+    let hits = match args.engine {
+        Engine::Raypack => trace_rays(&BruteForce::new(&scene.primitives), &rays, args.kernel),
+        Engine::Embree => embree_hits(&scene, &rays, &args)?,
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    write_atomically(&args.out, &format_hits(&hits))
+        .map_err(|e| CliError::BadInput(anyhow!("{}: cannot write: {e}", args.out.display())))?;
+    eprintln!(
+        "traced {} rays through {} primitives with {:?} ({:?}): {} hits, {:.3} s (with build); wrote {}",
+        rays.len(),
+        scene.primitives.len(),
+        args.engine,
+        args.kernel,
+        hits.iter().filter(|h| h.is_hit()).count(),
+        seconds,
+        args.out.display()
+    );
+    Ok(())
+}
+
+#[cfg(feature = "embree")]
+fn embree_hits(scene: &Scene, rays: &[Ray], args: &TraceArgs) -> Result<Vec<Hit>, CliError> {
+    let embree = crate::cli::check::embree_scene(scene, &args.embree_config, args.embree_mode)?;
+    Ok(trace_rays(&embree, rays, args.kernel))
+}
+
+#[cfg(not(feature = "embree"))]
+fn embree_hits(_: &Scene, _: &[Ray], _: &TraceArgs) -> Result<Vec<Hit>, CliError> {
+    Err(CliError::BadInput(anyhow!(crate::compare::EMBREE_MISSING)))
+}

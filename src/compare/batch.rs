@@ -1,0 +1,79 @@
+//! Tracing a batch of rays through any [`Accel`], scalar or in 8-wide packets,
+//! on rayon's threads.
+
+use rayon::prelude::*;
+
+use crate::accel::Accel;
+use crate::packet::RayPacket8;
+use crate::ray::{Hit, Ray};
+
+/// Rays handed to one rayon task: enough to amortise scheduling.
+const CHUNK: usize = 256;
+
+/// How rays go through the accel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kernel {
+    /// One ray at a time ([`Accel::intersect`]).
+    Scalar,
+    /// Eight consecutive rays per packet ([`Accel::intersect_packet`]).
+    Packet8,
+}
+
+/// The nearest hit of every ray, in order.
+pub fn trace_rays<A: Accel>(accel: &A, rays: &[Ray], kernel: Kernel) -> Vec<Hit> {
+    let mut hits: Vec<Hit> = rays.iter().map(Hit::none).collect();
+    hits.par_chunks_mut(CHUNK)
+        .zip(rays.par_chunks(CHUNK))
+        .for_each(|(hits, rays)| match kernel {
+            Kernel::Scalar => {
+                for (hit, ray) in hits.iter_mut().zip(rays) {
+                    *hit = accel.intersect(ray);
+                }
+            }
+            Kernel::Packet8 => {
+                for (hits, rays) in hits.chunks_mut(8).zip(rays.chunks(8)) {
+                    let packet = accel.intersect_packet(&RayPacket8::from_rays(rays));
+                    for (i, hit) in hits.iter_mut().enumerate() {
+                        *hit = packet.hit(i);
+                    }
+                }
+            }
+        });
+    hits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::BruteForce;
+    use crate::compare::random_rays;
+    use crate::geometry::{Primitive, Sphere};
+    use glam::Vec3;
+
+    #[test]
+    fn scalar_and_packet_batches_give_each_ray_its_own_hit() {
+        let prims: Vec<Primitive> = (0..5)
+            .map(|i| Primitive::Sphere(Sphere::new(Vec3::new(i as f32, 0.0, 0.0), 0.4)))
+            .collect();
+        let accel = BruteForce::new(&prims);
+        // 1003 rays: the last packet is partial.
+        let rays = random_rays(
+            crate::bounds::Aabb::new(Vec3::splat(-1.0), Vec3::new(5.0, 1.0, 1.0)),
+            1003,
+            9,
+        );
+        let scalar = trace_rays(&accel, &rays, Kernel::Scalar);
+        let packet = trace_rays(&accel, &rays, Kernel::Packet8);
+        assert_eq!(scalar.len(), rays.len());
+        for (i, ray) in rays.iter().enumerate() {
+            assert_eq!(scalar[i], accel.intersect(ray));
+            assert_eq!(
+                (packet[i].t, packet[i].prim),
+                (scalar[i].t, scalar[i].prim),
+                "ray {i}"
+            );
+        }
+        assert!(scalar.iter().any(Hit::is_hit) && scalar.iter().any(|h| !h.is_hit()));
+    }
+}

@@ -1,0 +1,246 @@
+//! The plain CSV files that let any engine be compared with raypack.
+//!
+//! Rays: a header `ox,oy,oz,dx,dy,dz,tmin,tmax`, then one ray per line; blank
+//! lines are skipped; numbers are anything Rust's `f32` parser takes (`inf`
+//! included). Directions are normalised on reading, so `t` is a distance.
+//!
+//! Hits: a header `t,prim`, then one line per ray in the same order: the hit's
+//! `t` (shortest text that reads back to the same f32) and the primitive's index
+//! in file order, or `inf,-1` for a miss.
+
+use std::fmt::Write as _;
+use std::io;
+use std::path::Path;
+
+use crate::ray::{Hit, Ray};
+
+/// The rays file's header.
+pub const RAYS_HEADER: &str = "ox,oy,oz,dx,dy,dz,tmin,tmax";
+/// The hits file's header.
+pub const HITS_HEADER: &str = "t,prim";
+
+/// A rays file that cannot be read: where and what was expected.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CsvError {
+    /// The file.
+    pub path: String,
+    /// 1-based line number; None when the file itself cannot be read.
+    pub line: Option<usize>,
+    /// What was wrong or expected.
+    pub message: String,
+}
+
+impl std::fmt::Display for CsvError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}:{}: {}", self.path, line, self.message),
+            None => write!(f, "{}: {}", self.path, self.message),
+        }
+    }
+}
+
+impl std::error::Error for CsvError {}
+
+/// Parse the text of a rays file; `path` names it in errors.
+pub fn parse_rays(path: &str, text: &str) -> Result<Vec<Ray>, CsvError> {
+    let error = |line: usize, message: String| CsvError {
+        path: path.to_string(),
+        line: Some(line),
+        message,
+    };
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    match lines.find(|(_, l)| !l.is_empty()) {
+        Some((_, header)) if header.replace(' ', "") == RAYS_HEADER => {}
+        Some((n, other)) => {
+            return Err(error(
+                n,
+                format!("expected the header `{RAYS_HEADER}`, got `{other}`"),
+            ));
+        }
+        None => {
+            return Err(error(
+                1,
+                format!("empty file: expected the header `{RAYS_HEADER}`"),
+            ));
+        }
+    }
+    let mut rays = Vec::new();
+    for (n, line) in lines.filter(|(_, l)| !l.is_empty()) {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() != 8 {
+            return Err(error(
+                n,
+                format!("expected 8 numbers ({RAYS_HEADER}), got {} fields", fields.len()),
+            ));
+        }
+        let mut v = [0.0f32; 8];
+        for (k, (slot, field)) in v.iter_mut().zip(&fields).enumerate() {
+            *slot = field.parse().map_err(|_| {
+                let name = RAYS_HEADER.split(',').nth(k).unwrap_or("?");
+                error(n, format!("{name}: expected a number, got `{field}`"))
+            })?;
+        }
+        let [ox, oy, oz, dx, dy, dz, tmin, tmax] = v;
+        let origin = glam::Vec3::new(ox, oy, oz);
+        if !origin.is_finite() {
+            return Err(error(n, "the origin must be finite".into()));
+        }
+        let Some(dir) = glam::Vec3::new(dx, dy, dz).try_normalize() else {
+            return Err(error(n, "the direction must be finite and non-zero".into()));
+        };
+        if tmin.is_nan() || tmax.is_nan() || tmin > tmax {
+            return Err(error(n, format!("expected tmin <= tmax, got {tmin} and {tmax}")));
+        }
+        rays.push(Ray::new(origin, dir, tmin, tmax));
+    }
+    Ok(rays)
+}
+
+/// Read a rays file.
+pub fn read_rays(path: &Path) -> Result<Vec<Ray>, CsvError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| CsvError {
+        path: name.clone(),
+        line: None,
+        message: format!("cannot read: {e}"),
+    })?;
+    parse_rays(&name, &text)
+}
+
+/// The text of a rays file.
+pub fn format_rays(rays: &[Ray]) -> String {
+    let mut out = format!("{RAYS_HEADER}\n");
+    for r in rays {
+        let (o, d) = (r.origin, r.dir);
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{}",
+            o.x, o.y, o.z, d.x, d.y, d.z, r.t_min, r.t_max
+        );
+    }
+    out
+}
+
+/// The text of a hits file.
+pub fn format_hits(hits: &[Hit]) -> String {
+    let mut out = format!("{HITS_HEADER}\n");
+    for h in hits {
+        let _ = if h.is_hit() {
+            writeln!(out, "{},{}", h.t, h.prim)
+        } else {
+            writeln!(out, "inf,-1")
+        };
+    }
+    out
+}
+
+/// Write `text` to `path` whole or not at all: into a temporary file beside it,
+/// then renamed over it.
+pub fn write_atomically(path: &Path, text: &str) -> io::Result<()> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
+    let tmp = path.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+    std::fs::write(&tmp, text)
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .inspect_err(|_| {
+            let _ = std::fs::remove_file(&tmp);
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn rays_round_trip_through_the_text_format() {
+        let rays = vec![
+            Ray::new(
+                Vec3::new(0.1, -2.5, 3.0),
+                Vec3::new(0.0, 0.6, 0.8),
+                1e-4,
+                f32::INFINITY,
+            ),
+            Ray::new(Vec3::new(1e-30, 7.0, -0.333_333_34), Vec3::X, 0.0, 12.5),
+        ];
+        assert_eq!(parse_rays("r.csv", &format_rays(&rays)).unwrap(), rays);
+    }
+
+    #[test]
+    fn directions_are_normalised_and_blank_lines_skipped() {
+        let text = "\n ox, oy, oz, dx, dy, dz, tmin, tmax\n0,0,0, 0,0,2, 0,inf\n\n1,1,1,3,0,4,0.5,9\n";
+        let rays = parse_rays("r.csv", text).unwrap();
+        assert_eq!(rays.len(), 2);
+        assert_eq!(rays[0].dir, Vec3::Z);
+        assert_eq!(rays[1].dir, Vec3::new(0.6, 0.0, 0.8));
+        assert_eq!((rays[1].t_min, rays[1].t_max), (0.5, 9.0));
+    }
+
+    #[test]
+    fn bad_rays_files_say_where_and_what() {
+        let cases = [
+            ("", "r.csv:1: empty file"),
+            ("x,y\n", "r.csv:1: expected the header"),
+            (
+                concat!("ox,oy,oz,dx,dy,dz,tmin,tmax\n", "0,0,0,1,0,0,0\n"),
+                "r.csv:2: expected 8 numbers",
+            ),
+            (
+                concat!(
+                    "ox,oy,oz,dx,dy,dz,tmin,tmax\n",
+                    "0,0,0,1,0,0,0,inf\n0,zero,0,1,0,0,0,1\n"
+                ),
+                "r.csv:3: oy: expected a number, got `zero`",
+            ),
+            (
+                concat!("ox,oy,oz,dx,dy,dz,tmin,tmax\n", "0,0,0,0,0,0,0,1\n"),
+                "r.csv:2: the direction must be finite",
+            ),
+            (
+                concat!("ox,oy,oz,dx,dy,dz,tmin,tmax\n", "nan,0,0,1,0,0,0,1\n"),
+                "r.csv:2: the origin must be finite",
+            ),
+            (
+                concat!("ox,oy,oz,dx,dy,dz,tmin,tmax\n", "0,0,0,1,0,0,2,1\n"),
+                "r.csv:2: expected tmin <= tmax",
+            ),
+        ];
+        for (text, expected) in cases {
+            let e = parse_rays("r.csv", text).unwrap_err().to_string();
+            assert!(e.starts_with(expected), "{e:?} should start with {expected:?}");
+        }
+    }
+
+    #[test]
+    fn hits_are_written_with_exact_t_and_misses_as_inf_minus_one() {
+        let ray = Ray::unbounded(Vec3::ZERO, Vec3::Z);
+        let mut hit = Hit::none(&ray);
+        hit.record(0.1 + 0.2, 7, 0.0, 0.0);
+        let text = format_hits(&[hit, Hit::none(&ray)]);
+        assert_eq!(text, "t,prim\n0.3,7\ninf,-1\n");
+        let t: f32 = text
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(t.to_bits(), (0.1f32 + 0.2f32).to_bits());
+    }
+
+    #[test]
+    fn atomic_writes_replace_the_file_and_leave_no_temporary() {
+        let dir = std::env::temp_dir().join(format!("raypack-csv-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("hits.csv");
+        write_atomically(&path, "one").unwrap();
+        write_atomically(&path, "two").unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "two");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
+        assert!(write_atomically(&dir.join("missing/hits.csv"), "x").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

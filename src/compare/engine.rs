@@ -1,0 +1,29 @@
+//! The engines a ray query can go through, as command-line choices.
+
+/// Which engine traces the rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Engine {
+    /// raypack's own kernels and acceleration structure.
+    Raypack,
+    /// Embree 4 (needs the `embree` feature).
+    Embree,
+}
+
+/// How Embree builds its scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EmbreeMode {
+    /// `RTC_SCENE_FLAG_ROBUST`: watertight triangles, the reference for checks.
+    Robust,
+    /// Embree's default flags: its fastest mode, the one benchmarks compare with.
+    Fast,
+}
+
+/// The device configuration the comparisons use by default: Embree's 8-wide
+/// AVX2 kernels, matching raypack's 8-wide packets, and one BVH build thread.
+pub const DEFAULT_EMBREE_CONFIG: &str = "threads=1,isa=avx2";
+
+/// What to tell a user who asks for Embree in a build without it.
+pub const EMBREE_MISSING: &str = "this raypack was built without the `embree` feature: run \
+     scripts/install-embree.sh, then build with `cargo build --release --features embree`";

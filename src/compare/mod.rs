@@ -1,0 +1,16 @@
+//! Comparing engines ray by ray: the rays ([`ray_sets`]), tracing them through
+//! any [`Accel`](crate::accel::Accel) ([`batch`]), the CSV exchange format that
+//! lets any other engine take part ([`csv`]), and the agreement statistics of
+//! two engines' hits ([`agreement`]).
+
+pub mod agreement;
+pub mod batch;
+pub mod csv;
+pub mod engine;
+pub mod ray_sets;
+pub mod test_scenes;
+
+pub use agreement::{Agreement, AgreementOptions, Disagreement, DisagreementKind};
+pub use batch::{Kernel, trace_rays};
+pub use engine::{DEFAULT_EMBREE_CONFIG, EMBREE_MISSING, EmbreeMode, Engine};
+pub use ray_sets::{RaySet, primary_rays, primary_rays_in_blocks, random_rays};

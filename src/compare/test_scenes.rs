@@ -1,0 +1,310 @@
+//! Seeded scenes built in code, for comparing engines before (and besides) the
+//! scene files: random triangles, spheres, polygons, transformed objects and
+//! planes, a closed triangle mesh (shared edges everywhere), a sphereflake, and
+//! a mix of all of them. Each comes with a camera that frames it.
+
+use glam::{Mat4, Quat, Vec3};
+
+use crate::geometry::{Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
+use crate::rng::Rng;
+use crate::scene::{CameraSpec, Material, Scene};
+
+/// The generated scenes, by name.
+pub const NAMES: [&str; 8] = [
+    "triangles",
+    "spheres",
+    "polygons",
+    "transformed",
+    "planes",
+    "mesh",
+    "sphereflake",
+    "mixed",
+];
+
+/// The scene called `name` (one of [`NAMES`]) with about `n` primitives, from `seed`.
+pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
+    let mut rng = Rng::new(seed);
+    let prims = match name {
+        "triangles" => random_triangles(&mut rng, n),
+        "spheres" => random_spheres(&mut rng, n),
+        "polygons" => random_polygons(&mut rng, n),
+        "transformed" => random_transformed(&mut rng, n),
+        "planes" => {
+            let mut p = random_spheres(&mut rng, n.saturating_sub(3));
+            p.extend(planes());
+            p
+        }
+        "mesh" => uv_sphere_mesh(Vec3::ZERO, 4.0, n),
+        "sphereflake" => sphereflake(n),
+        "mixed" => {
+            let k = n / 5;
+            let mut p = random_triangles(&mut rng, k);
+            p.extend(random_spheres(&mut rng, k));
+            p.extend(random_polygons(&mut rng, k));
+            p.extend(random_transformed(&mut rng, k));
+            p.extend(uv_sphere_mesh(Vec3::new(0.0, 0.0, -2.0), 2.0, n - 4 * k));
+            p.extend(planes());
+            p
+        }
+        _ => return None,
+    };
+    Some(scene_of(format!("generated:{name}:{n}:{seed}"), prims))
+}
+
+/// The scene named by a command-line argument `gen:NAME[:N[:SEED]]` (N
+/// primitives, 1000 by default; seed 1 by default); None when `spec` does not
+/// start with `gen:`.
+pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
+    let rest = spec.strip_prefix("gen:")?;
+    let mut parts = rest.split(':');
+    let name = parts.next().unwrap_or_default();
+    let number = |part: Option<&str>, default: u64, what: &str| match part {
+        None => Ok(default),
+        Some(p) => p
+            .parse::<u64>()
+            .map_err(|_| format!("{spec}: {what} must be a whole number, got `{p}`")),
+    };
+    Some((|| {
+        let n = number(parts.next(), 1000, "the primitive count")?;
+        let seed = number(parts.next(), 1, "the seed")?;
+        if parts.next().is_some() {
+            return Err(format!("{spec}: expected gen:NAME[:N[:SEED]]"));
+        }
+        by_name(name, n as usize, seed).ok_or_else(|| {
+            format!(
+                "{spec}: unknown generated scene `{name}` (one of {})",
+                NAMES.join(", ")
+            )
+        })
+    })())
+}
+
+/// A scene of `prims`, one default material, and a camera framing them.
+pub fn scene_of(source: String, prims: Vec<Primitive>) -> Scene {
+    let mut scene = Scene {
+        materials: vec![Material::default()],
+        source,
+        ..Scene::default()
+    };
+    for p in prims {
+        scene.push(p, 0);
+    }
+    let b = scene.bounds();
+    scene.camera = Some(CameraSpec {
+        eye: b.center() + Vec3::new(0.3, 0.4, 1.0).normalize() * 1.2 * b.extent().length(),
+        center: b.center(),
+        up: Vec3::Y,
+        fovx: 45.0,
+        fovy: 45.0,
+        width: 256,
+        height: 256,
+    });
+    scene
+}
+
+/// Triangles of random size and orientation in the cube `[-5, 5]³`.
+pub fn random_triangles(rng: &mut Rng, n: usize) -> Vec<Primitive> {
+    (0..n)
+        .map(|_| {
+            let c = rng.point_in(Vec3::splat(-5.0), Vec3::splat(5.0));
+            let size = rng.range(0.2, 1.5);
+            let [a, b, d] = [(); 3].map(|_| c + size * rng.unit_vector());
+            Primitive::Triangle(Triangle::new(a, b, d))
+        })
+        .collect()
+}
+
+/// Spheres of random radius in the cube `[-5, 5]³` (overlapping ones included).
+pub fn random_spheres(rng: &mut Rng, n: usize) -> Vec<Primitive> {
+    (0..n)
+        .map(|_| {
+            let c = rng.point_in(Vec3::splat(-5.0), Vec3::splat(5.0));
+            Primitive::Sphere(Sphere::new(c, rng.range(0.05, 0.6)))
+        })
+        .collect()
+}
+
+/// Random planar polygons: convex polygons and concave stars of 3–12 points,
+/// randomly oriented, in the cube `[-5, 5]³`.
+pub fn random_polygons(rng: &mut Rng, n: usize) -> Vec<Primitive> {
+    (0..n)
+        .map(|_| {
+            let c = rng.point_in(Vec3::splat(-5.0), Vec3::splat(5.0));
+            let rotation = Quat::from_axis_angle(rng.unit_vector(), rng.range(0.0, std::f32::consts::TAU));
+            let points = 3 + rng.below(10) as usize;
+            let star = rng.f32() < 0.5;
+            let size = rng.range(0.3, 1.2);
+            let vertices: Vec<Vec3> = (0..if star { 2 * points } else { points })
+                .map(|i| {
+                    let (r, a) = if star {
+                        (
+                            if i % 2 == 0 { 1.0 } else { 0.4 },
+                            i as f32 * std::f32::consts::PI / points as f32,
+                        )
+                    } else {
+                        (1.0, i as f32 * std::f32::consts::TAU / points as f32)
+                    };
+                    c + rotation * (size * r * Vec3::new(a.cos(), a.sin(), 0.0))
+                })
+                .collect();
+            Primitive::Polygon(Polygon::new(&vertices).expect("a regular polygon or star is valid"))
+        })
+        .collect()
+}
+
+/// Spheres, triangles and polygons under random rotations, non-uniform scales
+/// and translations (ellipsoids, sheared triangles), one in five nested twice.
+pub fn random_transformed(rng: &mut Rng, n: usize) -> Vec<Primitive> {
+    (0..n)
+        .map(|i| {
+            let object = match i % 3 {
+                0 => Primitive::Sphere(Sphere::new(Vec3::ZERO, 0.5)),
+                1 => random_triangles(rng, 1).remove(0),
+                _ => random_polygons(rng, 1).remove(0),
+            };
+            let random_matrix = |rng: &mut Rng| {
+                Mat4::from_scale_rotation_translation(
+                    Vec3::new(rng.range(0.3, 1.5), rng.range(0.3, 1.5), rng.range(0.3, 1.5)),
+                    Quat::from_axis_angle(rng.unit_vector(), rng.range(0.0, std::f32::consts::TAU)),
+                    rng.point_in(Vec3::splat(-4.0), Vec3::splat(4.0)),
+                )
+            };
+            let mut m = random_matrix(rng);
+            let mut prim = object;
+            if i % 5 == 0 {
+                let inner = Mat4::from_scale(Vec3::new(1.0, 0.5, 1.0)) * Mat4::from_rotation_z(0.7);
+                prim = Primitive::Transformed(Box::new(Transformed::new(prim, inner).expect("invertible")));
+                m = random_matrix(rng);
+            }
+            // Centre the object on the origin first, so the matrix's translation places it.
+            let object_centre = prim.bounds().map_or(Vec3::ZERO, |b| b.center());
+            m *= Mat4::from_translation(-object_centre);
+            Primitive::Transformed(Box::new(Transformed::new(prim, m).expect("invertible")))
+        })
+        .collect()
+}
+
+/// Three infinite planes, one of each form: a floor, a tilted back wall, a side wall.
+pub fn planes() -> Vec<Primitive> {
+    vec![
+        Primitive::Plane(Plane::implicit(0.0, 1.0, 0.0, 6.0).expect("valid")),
+        Primitive::Plane(
+            Plane::point_normal(Vec3::new(0.0, 0.0, -7.0), Vec3::new(0.1, 0.2, 1.0)).expect("valid"),
+        ),
+        Primitive::Plane(
+            Plane::parametric(
+                Vec3::new(8.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.1),
+                Vec3::new(0.2, 0.0, 1.0),
+            )
+            .expect("valid"),
+        ),
+    ]
+}
+
+/// A closed UV-sphere triangle mesh of about `n` triangles: every edge is shared
+/// by two triangles and every pole vertex by many, so rays through edges and
+/// vertices are common.
+pub fn uv_sphere_mesh(center: Vec3, radius: f32, n: usize) -> Vec<Primitive> {
+    let rings = ((n as f32 / 2.0).sqrt() as usize).max(3);
+    let segments = (n / (2 * rings)).max(3);
+    let point = |ring: usize, seg: usize| {
+        // The poles exactly, so their fans share one vertex.
+        if ring == 0 || ring == rings {
+            return center + radius * if ring == 0 { Vec3::Y } else { Vec3::NEG_Y };
+        }
+        let theta = std::f32::consts::PI * ring as f32 / rings as f32;
+        let phi = std::f32::consts::TAU * (seg % segments) as f32 / segments as f32;
+        center + radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin())
+    };
+    let mut tris = Vec::new();
+    for r in 0..rings {
+        for s in 0..segments {
+            let (a, b, c, d) = (point(r, s), point(r, s + 1), point(r + 1, s), point(r + 1, s + 1));
+            if r > 0 {
+                tris.push(Primitive::Triangle(Triangle::new(a, b, c)));
+            }
+            if r + 1 < rings {
+                tris.push(Primitive::Triangle(Triangle::new(b, d, c)));
+            }
+        }
+    }
+    tris
+}
+
+/// A sphereflake (after E. Haines' SPD "balls"): a sphere with nine children of a
+/// third its radius on its surface, recursively, to about `n` spheres.
+pub fn sphereflake(n: usize) -> Vec<Primitive> {
+    let mut spheres = vec![(Vec3::ZERO, 1.0f32, Vec3::Y)];
+    let mut next = 0;
+    while spheres.len() + 9 <= n.max(1) {
+        let (c, r, axis) = spheres[next];
+        next += 1;
+        let frame = Quat::from_rotation_arc(Vec3::Y, axis);
+        for k in 0..9 {
+            let (elev, az): (f32, f32) = if k < 6 {
+                (0.2, k as f32 * std::f32::consts::TAU / 6.0)
+            } else {
+                (1.0, (k - 6) as f32 * std::f32::consts::TAU / 3.0 + 0.5)
+            };
+            let dir = frame * Vec3::new(elev.cos() * az.cos(), elev.sin(), elev.cos() * az.sin());
+            let child_r = r / 3.0;
+            spheres.push((c + (r + child_r) * dir, child_r, dir));
+        }
+    }
+    spheres
+        .into_iter()
+        .map(|(c, r, _)| Primitive::Sphere(Sphere::new(c, r)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_named_scene_is_built_seeded_and_framed() {
+        for name in NAMES {
+            let a = by_name(name, 200, 1).unwrap();
+            let b = by_name(name, 200, 1).unwrap();
+            assert_eq!(a.primitives, b.primitives, "{name} is seeded");
+            assert!(
+                a.primitives.len() >= 100 && a.primitives.len() <= 210,
+                "{name}: {}",
+                a.primitives.len()
+            );
+            assert!(a.camera.unwrap().camera().is_ok(), "{name}");
+        }
+        assert!(by_name("nothing", 10, 1).is_none());
+    }
+
+    #[test]
+    fn specs_name_generated_scenes_or_say_what_is_wrong() {
+        assert!(from_spec("scenes/balls.nff").is_none());
+        let s = from_spec("gen:spheres:50:3").unwrap().unwrap();
+        assert_eq!(s.primitives.len(), 50);
+        assert_eq!(s.primitives, by_name("spheres", 50, 3).unwrap().primitives);
+        assert_eq!(
+            from_spec("gen:mesh").unwrap().unwrap().source,
+            "generated:mesh:1000:1"
+        );
+        let err = |spec: &str| from_spec(spec).unwrap().unwrap_err();
+        assert!(err("gen:cubes").contains("unknown generated scene `cubes`"));
+        assert!(err("gen:spheres:many").contains("the primitive count must be a whole number"));
+        assert!(err("gen:spheres:5:1:2").contains("expected gen:NAME[:N[:SEED]]"));
+    }
+
+    #[test]
+    fn the_mesh_is_closed() {
+        // Every edge of a closed mesh is shared by exactly two triangles.
+        let mut edges = std::collections::HashMap::new();
+        for p in uv_sphere_mesh(Vec3::ZERO, 1.0, 500) {
+            let Primitive::Triangle(t) = p else { unreachable!() };
+            let v = t.vertices().map(|v| v.to_array().map(f32::to_bits));
+            for (a, b) in [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])] {
+                *edges.entry(if a < b { (a, b) } else { (b, a) }).or_insert(0) += 1;
+            }
+        }
+        assert!(edges.values().all(|&k| k == 2));
+    }
+}

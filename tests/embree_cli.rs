@@ -1,0 +1,119 @@
+//! `raypack check` and `raypack trace --engine embree` end to end.
+#![cfg(feature = "embree")]
+
+use std::process::Command;
+
+use raypack::compare::csv::format_rays;
+use raypack::compare::random_rays;
+use raypack::compare::test_scenes;
+
+fn raypack() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_raypack"))
+}
+
+#[test]
+fn check_reports_agreement_and_exits_by_the_bars() {
+    let output = raypack()
+        .args([
+            "check",
+            "gen:mixed:200:7",
+            "--n",
+            "20000",
+            "--size",
+            "96x64",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let sets = report["sets"].as_array().unwrap();
+    assert_eq!(sets.len(), 2);
+    assert_eq!(sets[0]["count"], 96 * 64);
+    assert_eq!(sets[1]["count"], 20000);
+    for set in sets {
+        assert!(set["hit_agreement"].as_f64().unwrap() >= 0.9999);
+        assert!(set["agreement"]["t_error"]["p99"].as_f64().unwrap() <= 1e-5);
+    }
+    assert_eq!(report["embree"]["translation"]["user"], 3, "the three planes");
+
+    // An impossible bar: exit 1 and say which set failed.
+    let output = raypack()
+        .args([
+            "check",
+            "gen:spheres:100:7",
+            "--rays",
+            "random",
+            "--n",
+            "5000",
+            "--max-t-error",
+            "0",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("agreement below the bars") && stderr.contains("random"),
+        "{stderr}"
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("relative t error") && stdout.contains("5000 random rays"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn trace_through_embree_matches_raypack_on_the_same_file() {
+    let dir = std::env::temp_dir().join(format!("raypack-embree-trace-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = test_scenes::by_name("transformed", 150, 2).unwrap();
+    std::fs::write(
+        dir.join("rays.csv"),
+        format_rays(&random_rays(scene.bounds(), 2000, 4)),
+    )
+    .unwrap();
+    let trace = |engine: &str, kernel: &str| {
+        let out = dir.join(format!("{engine}-{kernel}.csv"));
+        let status = raypack()
+            .args([
+                "trace",
+                "gen:transformed:150:2",
+                "--engine",
+                engine,
+                "--kernel",
+                kernel,
+                "--rays",
+            ])
+            .arg(dir.join("rays.csv"))
+            .arg("--out")
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        std::fs::read_to_string(out).unwrap()
+    };
+    let raypack_hits = trace("raypack", "packet8");
+    for kernel in ["scalar", "packet8"] {
+        let embree_hits = trace("embree", kernel);
+        let (mut same, mut total) = (0, 0);
+        for (a, b) in raypack_hits.lines().zip(embree_hits.lines()).skip(1) {
+            let (ta, pa) = a.split_once(',').unwrap();
+            let (tb, pb) = b.split_once(',').unwrap();
+            total += 1;
+            if pa == pb {
+                same += 1;
+                let (ta, tb): (f32, f32) = (ta.parse().unwrap(), tb.parse().unwrap());
+                assert!(ta == tb || (ta - tb).abs() <= 1e-3 * ta, "{a} vs {b}");
+            }
+        }
+        assert_eq!(total, 2000);
+        assert!(same >= 1999, "{same} of {total} agree ({kernel})");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

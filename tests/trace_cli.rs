@@ -1,0 +1,126 @@
+//! `raypack trace`: rays CSV in, hits CSV out, through raypack; clear errors
+//! (exit 2) for bad input, and no half-written output.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use raypack::accel::{Accel, BruteForce};
+use raypack::compare::csv::format_rays;
+use raypack::compare::random_rays;
+use raypack::compare::test_scenes;
+
+fn raypack() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_raypack"))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("raypack-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn trace_writes_one_hit_per_ray_in_file_order() {
+    let dir = temp_dir("trace");
+    let scene = test_scenes::by_name("mixed", 120, 5).unwrap();
+    let rays = random_rays(scene.bounds(), 500, 2);
+    std::fs::write(dir.join("rays.csv"), format_rays(&rays)).unwrap();
+    let out = dir.join("hits.csv");
+    let status = raypack()
+        .args(["trace", "gen:mixed:120:5", "--rays"])
+        .arg(dir.join("rays.csv"))
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,prim"));
+    let accel = BruteForce::new(&scene.primitives);
+    let mut hits = 0;
+    for (ray, line) in rays.iter().zip(lines.by_ref()) {
+        // The file's rays went through text and back: trace what was read.
+        let ray = raypack::compare::csv::parse_rays("r", &format_rays(&[*ray])).unwrap()[0];
+        let expected = accel.intersect(&ray);
+        let (t, prim) = line.split_once(',').unwrap();
+        if expected.is_hit() {
+            assert_eq!(
+                (t.parse::<f32>().unwrap(), prim.parse::<u32>().unwrap()),
+                (expected.t, expected.prim)
+            );
+            hits += 1;
+        } else {
+            assert_eq!(line, "inf,-1");
+        }
+    }
+    assert_eq!(lines.next(), None, "one line per ray");
+    assert!(hits > 100 && hits < rays.len());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
+    let dir = temp_dir("trace-bad");
+    let out = dir.join("hits.csv");
+    std::fs::write(
+        dir.join("bad.csv"),
+        "ox,oy,oz,dx,dy,dz,tmin,tmax\n0,0,0,1,0,0,0,inf\n0,0,0,1,0\n",
+    )
+    .unwrap();
+    let cases: [(&str, PathBuf, &str); 3] = [
+        (
+            "gen:mixed:50",
+            dir.join("bad.csv"),
+            "bad.csv:3: expected 8 numbers",
+        ),
+        (
+            "gen:mixed:50",
+            dir.join("missing.csv"),
+            "missing.csv: cannot read",
+        ),
+        (
+            "gen:cubes",
+            dir.join("bad.csv"),
+            "unknown generated scene `cubes`",
+        ),
+    ];
+    for (scene, rays, message) in cases {
+        let output = raypack()
+            .args(["trace", scene, "--rays"])
+            .arg(&rays)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(message), "{stderr:?} should say {message:?}");
+        assert!(!out.exists(), "no output file on bad input");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[cfg(not(feature = "embree"))]
+#[test]
+fn embree_without_the_feature_is_a_clear_error() {
+    let dir = temp_dir("trace-noembree");
+    std::fs::write(
+        dir.join("rays.csv"),
+        "ox,oy,oz,dx,dy,dz,tmin,tmax\n0,0,9,0,0,-1,0,inf\n",
+    )
+    .unwrap();
+    let output = raypack()
+        .args(["trace", "gen:spheres:10", "--engine", "embree", "--rays"])
+        .arg(dir.join("rays.csv"))
+        .arg("--out")
+        .arg(dir.join("hits.csv"))
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("built without the `embree` feature"));
+    let output = raypack().args(["check", "gen:spheres:10"]).output().unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("scripts/install-embree.sh"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
