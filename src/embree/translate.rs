@@ -6,6 +6,7 @@
 //! | [`Polygon`](crate::geometry::Polygon), simple | triangles by ear clipping, vertices first projected onto the polygon's plane (fixed by its first three vertices, as raypack's kernel does) |
 //! | [`Polygon`](crate::geometry::Polygon), self-crossing | user geometry: ear clipping would cover another region than the even-odd rule |
 //! | [`Sphere`](crate::geometry::Sphere) | `SPHERE_POINT` |
+//! | inside-only sphere (NFF negative radius) | user geometry: Embree's spheres are visible from outside |
 //! | [`Transformed`](crate::geometry::Transformed) | an instance of a one-object scene (nested transforms are multiplied out) |
 //! | planes, transformed planes, any shape Embree has no type for (cones) | user geometry calling raypack's own scalar kernel |
 //! | degenerate triangle, zero-area polygon | nothing: no ray can hit them |
@@ -100,6 +101,8 @@ enum Local {
 /// The native shape of an untransformed primitive, if Embree has one.
 fn local(prim: &Primitive) -> Local {
     match prim {
+        // Embree's sphere shows its front face; only raypack's kernel takes the far root.
+        Primitive::Sphere(s) if s.inside_only => Local::User,
         Primitive::Sphere(s) => Local::Native(NativeShape::Sphere(s.center, s.radius)),
         Primitive::Triangle(t) if t.is_degenerate() => Local::Empty,
         Primitive::Triangle(t) => Local::Native(NativeShape::Triangles(vec![t.vertices()])),
@@ -164,6 +167,8 @@ mod tests {
             place(&sphere),
             Placement::Native(NativeShape::Sphere(Vec3::ONE, 2.0))
         );
+        let dome = Primitive::Sphere(Sphere::inside_only(Vec3::ONE, 2.0));
+        assert_eq!(place(&dome), Placement::User);
         let plane = Primitive::Plane(Plane::implicit(0.0, 1.0, 0.0, 1.0).unwrap());
         assert_eq!(place(&plane), Placement::User);
         let bowtie = Polygon::new(&[Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::X, Vec3::Y]).unwrap();
