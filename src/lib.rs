@@ -14,6 +14,7 @@ pub mod cli;
 pub mod geometry;
 pub mod packet;
 pub mod ray;
+pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod simd;

@@ -1,6 +1,8 @@
 //! The `raypack` command line: one file per subcommand.
 
 mod bench;
+pub mod render;
+mod stats;
 
 use std::process::ExitCode;
 
@@ -21,6 +23,10 @@ pub enum Command {
     /// Measure throughput (kernels, scenes).
     #[command(subcommand)]
     Bench(bench::BenchCommand),
+    /// Render a scene into a timing-annotated PNG.
+    Render(render::Args),
+    /// Scene statistics; with --spd, ray counts by the SPD's test procedure.
+    Stats(stats::Args),
 }
 
 /// Exit code for input the user can fix (bad scene file, unwritable output).
@@ -31,6 +37,8 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Bench(cmd) => bench::run(cmd),
+        Command::Render(args) => render::run(args),
+        Command::Stats(args) => stats::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
