@@ -118,34 +118,79 @@ mod tests {
     use crate::geometry::{Primitive, Sphere};
     use crate::rng::Rng;
 
-    /// Random rays aimed at a cloud of spheres: the two kernels return the same
-    /// records and occlusion masks, lane by lane, with random lane masks.
-    #[test]
-    fn scalar_and_packet_batches_agree_lane_by_lane() {
-        let mut rng = Rng::new(7);
-        let prims: Vec<Primitive> = (0..24)
+    fn cloud(rng: &mut Rng) -> Vec<Primitive> {
+        (0..24)
             .map(|_| {
                 let c = rng.point_in(Vec3::splat(-3.0), Vec3::splat(3.0));
                 Primitive::Sphere(Sphere::new(c, rng.range(0.2, 0.8)))
             })
-            .collect();
+            .collect()
+    }
+
+    /// Both kernels (and a 4-wide packet kernel) give the same records and
+    /// occlusion masks, lane by lane; inactive lanes are never hit or blocked.
+    fn check(accel: &BruteForce, rays: &Rays, active: u32) {
+        let a = ScalarKernel::intersect(accel, rays, active);
+        assert_eq!(
+            a,
+            Packet8Kernel::intersect(accel, rays, active),
+            "{rays:?} {active:b}"
+        );
+        assert_eq!(a, PacketKernel::<wide::f32x4>::intersect(accel, rays, active));
+        let blocked = ScalarKernel::occluded(accel, rays, active);
+        assert_eq!(blocked, Packet8Kernel::occluded(accel, rays, active), "{rays:?}");
+        assert_eq!(
+            blocked,
+            PacketKernel::<wide::f32x4>::occluded(accel, rays, active)
+        );
+        assert_eq!(blocked & !active, 0);
+        for i in (0..BATCH).filter(|i| active >> i & 1 == 0) {
+            assert_eq!(a[i], Hit::none(&rays[i]));
+        }
+    }
+
+    /// 10⁶ random rays aimed at a cloud of spheres, with random lane masks and
+    /// random `[t_min, t_max]` (some starting inside spheres).
+    #[test]
+    fn scalar_and_packet_batches_agree_lane_by_lane() {
+        let mut rng = Rng::new(7);
+        let prims = cloud(&mut rng);
         let accel = BruteForce::new(&prims);
-        for _ in 0..20_000 {
+        for _ in 0..125_000 {
             let rays: Rays = std::array::from_fn(|_| {
                 let o = 8.0 * rng.unit_vector();
                 let d = (rng.point_in(Vec3::splat(-3.0), Vec3::splat(3.0)) - o).normalize();
-                Ray::new(o, d, rng.range(0.0, 2.0), rng.range(2.0, 20.0))
+                Ray::new(o, d, rng.range(0.0, 8.0), rng.range(2.0, 20.0))
             });
-            let active = rng.below(1 << BATCH);
-            let a = ScalarKernel::intersect(&accel, &rays, active);
-            let b = Packet8Kernel::intersect(&accel, &rays, active);
-            let c = PacketKernel::<wide::f32x4>::intersect(&accel, &rays, active);
-            assert_eq!(a, b);
-            assert_eq!(a, c);
-            let oa = ScalarKernel::occluded(&accel, &rays, active);
-            assert_eq!(oa, Packet8Kernel::occluded(&accel, &rays, active));
-            assert_eq!(oa, PacketKernel::<wide::f32x4>::occluded(&accel, &rays, active));
-            assert_eq!(oa & !active, 0);
+            check(&accel, &rays, rng.below(1 << BATCH));
         }
+    }
+
+    /// Hand-made lanes: tangent, inside, empty interval, NaN and infinite input.
+    #[test]
+    fn scalar_and_packet_batches_agree_on_edge_cases() {
+        let prims = vec![Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0))];
+        let accel = BruteForce::new(&prims);
+        let rays: Rays = [
+            Ray::unbounded(Vec3::new(-5.0, 1.0, 0.0), Vec3::X), // tangent
+            Ray::unbounded(Vec3::ZERO, Vec3::Y),                // inside
+            Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z, 3.0, 2.0), // empty interval
+            Ray::unbounded(Vec3::NAN, Vec3::X),
+            Ray::unbounded(Vec3::new(0.0, 0.0, 5.0), Vec3::NAN),
+            Ray::unbounded(Vec3::splat(f32::INFINITY), -Vec3::X),
+            Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z, 0.0, 3.9), // stops short
+            Ray::unbounded(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z),     // head-on
+        ];
+        for active in [ALL_LANES, 0, 0b1010_1010, 0b0101_0101] {
+            check(&accel, &rays, active);
+        }
+        let hits = ScalarKernel::intersect(&accel, &rays, ALL_LANES);
+        assert_eq!(hits[1].t, 1.0);
+        assert_eq!(hits[7].t, 4.0);
+        assert!(!hits[2].is_hit() && !hits[3].is_hit() && !hits[6].is_hit());
+        assert_eq!(
+            ScalarKernel::occluded(&accel, &rays, ALL_LANES) & 0b1100_0110,
+            0b1000_0010
+        );
     }
 }

@@ -20,6 +20,14 @@ pub fn material(color: Vec3, kd: f32, ks: f32, shine: f32, t: f32, ior: f32) -> 
     }
 }
 
+/// An empty scene with these materials.
+pub fn with_materials(materials: Vec<Material>) -> Scene {
+    Scene {
+        materials,
+        ..Scene::default()
+    }
+}
+
 /// A camera looking from `eye` at `center`, square image of `size` pixels, 45°.
 pub fn camera(eye: Vec3, center: Vec3, size: u32) -> CameraSpec {
     CameraSpec {
