@@ -3,8 +3,8 @@
 //! count, and a Whitted frame per kernel, on scenes built in code.
 //! `cargo bench --bench render -- primary` runs one group.
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+#[path = "../tests/render_support/mod.rs"]
+mod render_support;
 
 use std::time::Duration;
 
@@ -25,8 +25,8 @@ fn pool(threads: usize) -> rayon::ThreadPool {
 /// Primary rays, brute force: the sphere-heavy scene and the mixed scene.
 fn primary(c: &mut Criterion) {
     let scenes = [
-        ("spheres-256", common::sphere_cloud(256, 1, 256)),
-        ("mixed-60", common::mixed_scene(60, 5)),
+        ("spheres-256", render_support::sphere_cloud(256, 1, 256)),
+        ("mixed-60", render_support::mixed_scene(60, 5)),
     ];
     let mut group = c.benchmark_group("primary");
     group.sample_size(10).measurement_time(Duration::from_secs(3));
@@ -52,7 +52,7 @@ fn primary(c: &mut Criterion) {
 
 /// A whole Whitted frame (shadow, reflection and refraction batches included).
 fn whitted(c: &mut Criterion) {
-    let scene = common::mixed_scene(60, 5);
+    let scene = render_support::mixed_scene(60, 5);
     let camera = scene.camera.unwrap().camera_at(128, 128).unwrap();
     let accel = BruteForce::new(&scene.primitives);
     let pool = pool(2);

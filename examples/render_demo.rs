@@ -1,9 +1,9 @@
-//! Renders the scenes built in `tests/common` into timing-annotated PNGs (the
+//! Renders the scenes built in `tests/render_support` into timing-annotated PNGs (the
 //! README's pictures), through the same library calls as `raypack render`:
 //! `cargo run --release --example render_demo -- OUT_DIR`.
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+#[path = "../tests/render_support/mod.rs"]
+mod render_support;
 
 use std::path::PathBuf;
 
@@ -16,9 +16,9 @@ use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render}
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "docs".into()));
     let pool = rayon::ThreadPoolBuilder::new().build()?;
-    let mut mixed = common::mixed_scene(60, 5);
+    let mut mixed = render_support::mixed_scene(60, 5);
     mixed.source = "mixed (60 spheres, glass, mirrors)".into();
-    let mut cloud = common::sphere_cloud(300, 1, 512);
+    let mut cloud = render_support::sphere_cloud(300, 1, 512);
     cloud.source = "300 spheres".into();
     let jobs = [
         (&mixed, Mode::Whitted, KernelKind::Packet8, 512, "whitted"),

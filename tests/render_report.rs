@@ -1,7 +1,7 @@
 //! The numbers around a render: the JSON sidecar and caption, the annotated
 //! image, and the scene benchmark's measurements.
 
-mod common;
+mod render_support;
 
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
@@ -11,7 +11,7 @@ use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render}
 
 #[test]
 fn sidecar_caption_and_image_carry_the_same_numbers() {
-    let scene = common::mixed_scene(20, 4);
+    let scene = render_support::mixed_scene(20, 4);
     let camera = scene.camera.unwrap().camera_at(80, 40).unwrap();
     let settings = RenderSettings {
         mode: Mode::Whitted,
@@ -95,7 +95,7 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
 
 #[test]
 fn scene_bench_measures_every_variant_on_the_same_rays() {
-    let scene = common::sphere_cloud(40, 3, 64);
+    let scene = render_support::sphere_cloud(40, 3, 64);
     let camera = scene.camera.unwrap().camera().unwrap();
     let frame = PrimaryFrame::new(&camera, Block::B4x2, 16);
     let variants: Vec<Variant> = [KernelKind::Scalar, KernelKind::Packet8]

@@ -1,14 +1,14 @@
 //! Whitted ray tracing end to end on scenes small enough to work out by hand:
 //! direct light, shadows, mirrors, glass, and the depth limit.
 
-mod common;
+mod render_support;
 
-use common::{camera, material};
 use glam::Vec3;
 use raypack::accel::BruteForce;
 use raypack::geometry::{Plane, Primitive, Sphere};
 use raypack::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
 use raypack::scene::{CameraSpec, Light, Scene};
+use render_support::{camera, material};
 
 fn trace(scene: &Scene, kernel: KernelKind, max_depth: u32) -> Render {
     let camera = scene.camera.unwrap().camera().unwrap();
@@ -43,7 +43,7 @@ fn trace_both(scene: &Scene, max_depth: u32) -> Render {
 /// A floor `y = 0` seen straight down from (0, 5, 0) in a 3×3 image (the
 /// centre pixel's ray is exactly −y), lit from (0, 10, 0).
 fn floor_scene(floor: raypack::scene::Material) -> Scene {
-    let mut scene = common::with_materials(vec![floor]);
+    let mut scene = render_support::with_materials(vec![floor]);
     scene.push(Primitive::Plane(Plane::implicit(0.0, 1.0, 0.0, 0.0).unwrap()), 0);
     scene.lights = vec![Light {
         position: Vec3::new(0.0, 10.0, 0.0),
@@ -118,7 +118,7 @@ fn a_mirror_floor_shows_what_is_above_it() {
 /// Two facing mirrors `z = −1` and `z = 1` with the camera between them: every
 /// ray bounces until the depth limit.
 fn mirror_pair(light: bool) -> Scene {
-    let mut scene = common::with_materials(vec![material(Vec3::ONE, 0.5, 0.5, 10.0, 0.0, 1.0)]);
+    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 0.5, 0.5, 10.0, 0.0, 1.0)]);
     scene.push(
         Primitive::Plane(Plane::point_normal(-Vec3::Z, Vec3::Z).unwrap()),
         0,
@@ -158,7 +158,7 @@ fn glass_spheres_refract_in_and_out() {
     // each eye hit enters (refraction at depth 2), crosses the sphere and leaves
     // (refraction at depth 3) into the void. A sphere never reflects totally on
     // the way out: the exit angle equals the entry's refraction angle.
-    let mut scene = common::with_materials(vec![material(Vec3::ONE, 0.0, 0.0, 0.0, 1.0, 1.5)]);
+    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 0.0, 0.0, 0.0, 1.0, 1.5)]);
     scene.push(Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
     scene.camera = Some(camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 40));
     scene.background = Vec3::new(0.0, 0.0, 1.0);

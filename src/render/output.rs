@@ -3,7 +3,9 @@
 //! a failed or interrupted run never leaves a half-written image or sidecar.
 //!
 //! `tempfile` does the temporary file: a unique name, created exclusively, and
-//! removed when dropped uncommitted, on every exit path.
+//! removed when dropped uncommitted, on every exit path. It is created with
+//! mode `0o666` less the umask, like any file a program writes (tempfile's
+//! default, `0o600`, would make the image private after the rename).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -57,7 +59,10 @@ impl AtomicFile {
                 format!("directory {} does not exist", dir.display()),
             ));
         }
-        let temp = tempfile::Builder::new()
+        let mut builder = tempfile::Builder::new();
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+        let temp = builder
             .prefix(&format!(".{}.", name.to_string_lossy()))
             .suffix(".tmp")
             .tempfile_in(dir)
@@ -115,6 +120,12 @@ mod tests {
         assert!(!target.exists());
         f.commit(b"hello").unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"hello");
+        // The same mode as any file the program writes, not private like a temporary one.
+        let plain = dir.join("plain");
+        std::fs::write(&plain, b"x").unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions();
+        assert_eq!(mode(&target), mode(&plain));
+        std::fs::remove_file(&plain).unwrap();
 
         let g = AtomicFile::create(&dir.join("b.png")).unwrap();
         drop(g);
