@@ -96,6 +96,7 @@ fn bad_options_are_rejected() {
         vec!["render", "s.nff", "--kernel", "packet16"],
         vec!["render", "s.nff", "--depth", "0"],
         vec!["bench", "scene", "s.nff", "--threads", "1,0"],
+        vec!["stats", "s.nff"],
     ] {
         let o = raypack(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");

@@ -25,7 +25,7 @@ pub enum Command {
     Bench(bench::BenchCommand),
     /// Render a scene into a timing-annotated PNG.
     Render(render::Args),
-    /// Scene statistics; with --spd, ray counts by the SPD's test procedure.
+    /// Ray statistics: with --spd, the counts of the SPD's test procedure as JSON.
     Stats(stats::Args),
 }
 

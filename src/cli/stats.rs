@@ -1,5 +1,6 @@
-//! `raypack stats SCENE [--spd]`: a scene's make-up as JSON, or with `--spd`
-//! its ray counts under the SPD's test procedure.
+//! `raypack stats SCENE --spd`: a scene's ray counts under the SPD's test
+//! procedure, as one JSON object. (`--spd` names the procedure; it is the only
+//! one so far, so the flag is required.)
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -20,30 +21,17 @@ pub struct Args {
     /// Scene file.
     pub scene: PathBuf,
     /// Count rays the SPD way: 512x512, eye rays through pixel corners (513x513), depth 5.
-    #[arg(long)]
+    #[arg(long, required = true)]
     pub spd: bool,
-    /// Kernel for `--spd` (the counts are the same for both).
+    /// Kernel (the counts are the same for both).
     #[arg(long, value_enum, default_value_t = KernelKind::Packet8)]
     pub kernel: KernelKind,
-    /// Worker threads for `--spd` (default: one per core).
+    /// Worker threads (default: one per core).
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub threads: Option<u16>,
-    /// Acceleration structure for `--spd`.
+    /// Acceleration structure.
     #[arg(long, value_enum, default_value_t = AccelKind::None)]
     pub accel: AccelKind,
-}
-
-/// A scene's make-up.
-#[derive(serde::Serialize)]
-struct Summary<'a> {
-    scene: &'a str,
-    primitives: usize,
-    primitive_kinds: std::collections::BTreeMap<String, usize>,
-    materials: usize,
-    lights: usize,
-    smooth_triangles: usize,
-    bounds: Option<[[f32; 3]; 2]>,
-    camera: Option<crate::scene::CameraSpec>,
 }
 
 /// SPD counts with the time they took (reported on stderr, apart from the counts).
@@ -66,28 +54,6 @@ impl WithAccel for Spd<'_> {
 /// Run `stats`.
 pub fn run(args: Args) -> CliResult {
     let (scene, _) = load_scene(&args.scene)?;
-    if !args.spd {
-        let b = scene.bounds();
-        let summary = Summary {
-            scene: &scene.source,
-            primitives: scene.primitives.len(),
-            primitive_kinds: scene
-                .counts()
-                .into_iter()
-                .map(|(k, n)| (format!("{k:?}").to_lowercase(), n))
-                .collect(),
-            materials: scene.materials.len(),
-            lights: scene.lights.len(),
-            smooth_triangles: scene.vertex_normals.len(),
-            bounds: (!b.is_empty()).then(|| [b.min.to_array(), b.max.to_array()]),
-            camera: scene.camera,
-        };
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&summary).map_err(anyhow::Error::from)?
-        );
-        return Ok(());
-    }
     let pool = thread_pool(args.threads)?;
     let job = Spd {
         scene: &scene,
