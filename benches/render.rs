@@ -33,15 +33,15 @@ fn primary(c: &mut Criterion) {
     for (name, scene) in &scenes {
         let camera = scene.camera.unwrap().camera_at(256, 256).unwrap();
         let accel = BruteForce::new(&scene.primitives);
+        let frame = PrimaryFrame::new(&camera, 16);
+        group.throughput(Throughput::Elements(frame.rays()));
         for block in [Block::B4x2, Block::B8x1] {
-            let frame = PrimaryFrame::new(&camera, block, 16);
-            group.throughput(Throughput::Elements(frame.rays()));
             for kernel in KERNELS {
                 for threads in [1, 2] {
                     let pool = pool(threads);
                     let id = format!("{name}/{}/{}/{threads}t", kernel.name(), block.name());
                     group.bench_function(BenchmarkId::from_parameter(id), |b| {
-                        b.iter(|| frame.trace(&accel, kernel, &pool))
+                        b.iter(|| frame.trace(&accel, kernel, block, &pool))
                     });
                 }
             }

@@ -97,13 +97,21 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
 fn scene_bench_measures_every_variant_on_the_same_rays() {
     let scene = render_support::sphere_cloud(40, 3, 64);
     let camera = scene.camera.unwrap().camera().unwrap();
-    let frame = PrimaryFrame::new(&camera, Block::B4x2, 16);
-    let variants: Vec<Variant> = [KernelKind::Scalar, KernelKind::Packet8]
-        .into_iter()
-        .flat_map(|kernel| [1, 2].map(|threads| Variant { kernel, threads }))
-        .collect();
+    let frame = PrimaryFrame::new(&camera, 16);
+    let mut variants = Vec::new();
+    for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
+        for block in [Block::B4x2, Block::B8x1] {
+            for threads in [1, 2] {
+                variants.push(Variant {
+                    kernel,
+                    block,
+                    threads,
+                });
+            }
+        }
+    }
     let timings = measure(&BruteForce::new(&scene.primitives), &frame, &variants, 2).unwrap();
-    assert_eq!(timings.len(), 4);
+    assert_eq!(timings.len(), 8);
     let hits = timings[0].hits;
     assert!(hits > 0 && hits < 64 * 64);
     for (t, v) in timings.iter().zip(&variants) {

@@ -17,11 +17,13 @@ use crate::render::tiles::{self, Tile};
 use crate::render::whitted::lanes;
 use crate::render::{Block, Grid, KernelKind, Packet8Kernel, Sampling, ScalarKernel, for_each_block};
 
-/// A kernel and thread count to measure.
+/// A kernel, pixel block and thread count to measure.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Variant {
     /// Kernel.
     pub kernel: KernelKind,
+    /// Pixel block per batch.
+    pub block: Block,
     /// Worker threads.
     pub threads: usize,
 }
@@ -53,17 +55,15 @@ impl Timing {
 pub struct PrimaryFrame {
     grid: Grid,
     tiles: Vec<Tile>,
-    block: Block,
 }
 
 impl PrimaryFrame {
-    /// Rays through the pixel centres of `camera`, in `tile_size` tiles of `block` blocks.
-    pub fn new(camera: &Camera, block: Block, tile_size: u32) -> Self {
+    /// Rays through the pixel centres of `camera`, in `tile_size` tiles.
+    pub fn new(camera: &Camera, tile_size: u32) -> Self {
         let grid = Grid::new(*camera, Sampling::PixelCentres);
         Self {
             tiles: tiles::tiles(grid.width, grid.height, tile_size),
             grid,
-            block,
         }
     }
 
@@ -72,21 +72,28 @@ impl PrimaryFrame {
         u64::from(self.grid.width) * u64::from(self.grid.height)
     }
 
-    /// Trace every primary ray's nearest hit on `pool` with `kernel`; returns how many hit.
-    pub fn trace<A: Accel>(&self, accel: &A, kernel: KernelKind, pool: &rayon::ThreadPool) -> u64 {
+    /// Trace every primary ray's nearest hit on `pool` with `kernel`, in batches
+    /// of `block` pixels; returns how many hit.
+    pub fn trace<A: Accel>(
+        &self,
+        accel: &A,
+        kernel: KernelKind,
+        block: Block,
+        pool: &rayon::ThreadPool,
+    ) -> u64 {
         match kernel {
-            KernelKind::Scalar => self.trace_with::<ScalarKernel, A>(accel, pool),
-            KernelKind::Packet8 => self.trace_with::<Packet8Kernel, A>(accel, pool),
+            KernelKind::Scalar => self.trace_with::<ScalarKernel, A>(accel, block, pool),
+            KernelKind::Packet8 => self.trace_with::<Packet8Kernel, A>(accel, block, pool),
         }
     }
 
-    fn trace_with<K: TraceKernel, A: Accel>(&self, accel: &A, pool: &rayon::ThreadPool) -> u64 {
+    fn trace_with<K: TraceKernel, A: Accel>(&self, accel: &A, block: Block, pool: &rayon::ThreadPool) -> u64 {
         let per_tile = tiles::run(
             pool,
             &self.tiles,
             |tile| {
                 let mut hits = 0u64;
-                for_each_block(&self.grid, tile, self.block, |rays, active, _| {
+                for_each_block(&self.grid, tile, block, |rays, active, _| {
                     let h = K::intersect(accel, rays, active);
                     hits += lanes(active).filter(|&i| h[i].is_hit()).count() as u64;
                 });
@@ -119,23 +126,18 @@ pub fn measure<A: Accel>(
     let mut samples = vec![Vec::with_capacity(runs); variants.len()];
     let mut hits = vec![0u64; variants.len()];
     for (k, v) in variants.iter().enumerate() {
-        hits[k] = frame.trace(accel, v.kernel, &pools[k]);
+        hits[k] = frame.trace(accel, v.kernel, v.block, &pools[k]);
     }
     if let Some(k) = hits.iter().position(|&h| h != hits[0]) {
         return Err(format!(
-            "{} with {} threads hits {} rays, {} with {} threads {}",
-            variants[0].kernel.name(),
-            variants[0].threads,
-            hits[0],
-            variants[k].kernel.name(),
-            variants[k].threads,
-            hits[k]
+            "{:?} hits {} rays, {:?} hits {}",
+            variants[0], hits[0], variants[k], hits[k]
         ));
     }
     for _ in 0..runs.max(1) {
         for (k, v) in variants.iter().enumerate() {
             let start = Instant::now();
-            std::hint::black_box(frame.trace(accel, v.kernel, &pools[k]));
+            std::hint::black_box(frame.trace(accel, v.kernel, v.block, &pools[k]));
             samples[k].push(start.elapsed().as_secs_f64());
         }
     }

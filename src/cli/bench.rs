@@ -100,9 +100,9 @@ pub struct SceneArgs {
     /// Acceleration structure.
     #[arg(long, value_enum, default_value_t = AccelKind::None)]
     pub accel: AccelKind,
-    /// Pixel block per packet.
-    #[arg(long, value_enum, default_value_t = Block::B4x2)]
-    pub block: Block,
+    /// Pixel blocks per packet to measure, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Block::B4x2])]
+    pub block: Vec<Block>,
     /// Tile edge in pixels.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub tile: u32,
@@ -134,7 +134,7 @@ pub struct SceneRow {
     pub mrays_per_s: f64,
     /// Million primary rays per second, median run.
     pub median_mrays_per_s: f64,
-    /// `mrays_per_s` over that of the first variant (first kernel, first thread count).
+    /// `mrays_per_s` over that of the first variant (first kernel, block and thread count).
     pub ratio: f64,
     /// Ray kind measured.
     pub rays_kind: &'static str,
@@ -178,17 +178,19 @@ impl WithAccel for SceneJob<'_> {
 fn scene(args: SceneArgs) -> CliResult {
     let (scene, _) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, &args.scene, args.size)?;
-    let frame = PrimaryFrame::new(&camera, args.block, args.tile);
-    let variants: Vec<Variant> = args
-        .kernel
-        .iter()
-        .flat_map(|&kernel| {
-            args.threads.iter().map(move |&t| Variant {
-                kernel,
-                threads: usize::from(t),
-            })
-        })
-        .collect();
+    let frame = PrimaryFrame::new(&camera, args.tile);
+    let mut variants = Vec::new();
+    for &kernel in &args.kernel {
+        for &block in &args.block {
+            for &threads in &args.threads {
+                variants.push(Variant {
+                    kernel,
+                    block,
+                    threads: usize::from(threads),
+                });
+            }
+        }
+    }
     let job = SceneJob {
         frame: &frame,
         variants: &variants,
@@ -217,7 +219,7 @@ fn scene(args: SceneArgs) -> CliResult {
             hits: t.hits,
             width: camera.width,
             height: camera.height,
-            block: args.block.name(),
+            block: t.variant.block.name(),
             tile: args.tile,
             runs: args.runs,
             primitives: scene.primitives.len(),
@@ -232,24 +234,24 @@ fn scene(args: SceneArgs) -> CliResult {
         return Ok(());
     }
     println!(
-        "{}: {} primitives, {}x{} primary rays through pixel centres, accel {}, {} blocks, {}px tiles, best of {} runs",
+        "{}: {} primitives, {}x{} primary rays through pixel centres, accel {}, {}px tiles, best of {} runs",
         name,
         scene.primitives.len(),
         camera.width,
         camera.height,
         args.accel.name(),
-        args.block.name(),
         args.tile,
         args.runs
     );
     println!(
-        "{:<8} {:>7} {:>10} {:>10} {:>9} {:>12}",
-        "kernel", "threads", "Mrays/s", "median", "best ms", "vs first"
+        "{:<8} {:>5} {:>7} {:>10} {:>10} {:>9} {:>12}",
+        "kernel", "block", "threads", "Mrays/s", "median", "best ms", "vs first"
     );
     for r in &rows {
         println!(
-            "{:<8} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x",
+            "{:<8} {:>5} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x",
             r.kernel,
+            r.block,
             r.threads,
             r.mrays_per_s,
             r.median_mrays_per_s,
