@@ -13,11 +13,13 @@ pub mod annotate;
 pub mod colormap;
 pub mod engine;
 pub mod frame;
+pub mod grid;
 pub mod kernel;
 pub mod optics;
 pub mod output;
 pub mod progress;
 pub mod report;
+pub mod settings;
 pub mod shade;
 pub mod spd;
 pub mod stats;
@@ -31,136 +33,18 @@ use std::time::Instant;
 use glam::Vec3;
 
 pub use frame::Frame;
+pub use grid::{Grid, for_each_block};
 pub use kernel::{Packet8Kernel, PacketKernel, ScalarKernel, TraceKernel};
+pub use settings::{Block, KernelKind, Mode, RenderSettings, Sampling};
 pub use stats::RayCounts;
 pub use tiles::Tile;
 pub use whitted::Tracer;
 
 use crate::accel::Accel;
 use crate::camera::Camera;
-use crate::ray::Ray;
 use crate::scene::Scene;
-use kernel::{BATCH, Rays};
+use kernel::BATCH;
 use whitted::lanes;
-
-/// What a pixel shows.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Mode {
-    /// Ray casting: the nearest object's colour under a headlight.
-    Cast,
-    /// The shading normal as a colour.
-    Normals,
-    /// Distance of the primary hit as grey levels.
-    Depth,
-    /// A colour per primitive.
-    Id,
-    /// Recursive ray tracing: shadows, reflection, refraction.
-    Whitted,
-}
-
-impl Mode {
-    /// Name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Cast => "cast",
-            Mode::Normals => "normals",
-            Mode::Depth => "depth",
-            Mode::Id => "id",
-            Mode::Whitted => "whitted",
-        }
-    }
-}
-
-/// Which kernels trace the rays.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum KernelKind {
-    /// One ray at a time.
-    Scalar,
-    /// 8-wide SIMD packets.
-    Packet8,
-}
-
-impl KernelKind {
-    /// Name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            KernelKind::Scalar => "scalar",
-            KernelKind::Packet8 => "packet8",
-        }
-    }
-}
-
-/// The pixel block traced as one batch (one packet).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-pub enum Block {
-    /// 4 pixels wide, 2 high.
-    #[value(name = "4x2")]
-    #[serde(rename = "4x2")]
-    B4x2,
-    /// 8 pixels wide, 1 high.
-    #[value(name = "8x1")]
-    #[serde(rename = "8x1")]
-    B8x1,
-}
-
-impl Block {
-    /// `(width, height)` in pixels.
-    pub fn dims(self) -> (u32, u32) {
-        match self {
-            Block::B4x2 => (4, 2),
-            Block::B8x1 => (8, 1),
-        }
-    }
-
-    /// Name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            Block::B4x2 => "4x2",
-            Block::B8x1 => "8x1",
-        }
-    }
-}
-
-/// Where the primary rays go through the image plane.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Sampling {
-    /// Pixel centres: `width × height` rays (images).
-    PixelCentres,
-    /// Pixel corners: `(width + 1) × (height + 1)` rays (the SPD's statistics).
-    PixelCorners,
-}
-
-/// How to render.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderSettings {
-    /// What a pixel shows.
-    pub mode: Mode,
-    /// Scalar or packet kernels.
-    pub kernel: KernelKind,
-    /// Pixel block per batch.
-    pub block: Block,
-    /// Tile edge in pixels.
-    pub tile_size: u32,
-    /// Maximum ray tree depth in `whitted` mode (eye ray = 1).
-    pub max_depth: u32,
-    /// Pixel centres or corners.
-    pub sampling: Sampling,
-}
-
-impl Default for RenderSettings {
-    fn default() -> Self {
-        Self {
-            mode: Mode::Whitted,
-            kernel: KernelKind::Packet8,
-            block: Block::B4x2,
-            tile_size: 16,
-            max_depth: 5,
-            sampling: Sampling::PixelCentres,
-        }
-    }
-}
 
 /// A finished render: the frame, the tiles with their times, the ray counts.
 #[derive(Clone, Debug)]
@@ -177,42 +61,6 @@ pub struct Render {
     pub trace_seconds: f64,
     /// Tiles per row.
     pub tiles_x: u32,
-}
-
-/// The primary rays of a camera at pixel centres or corners.
-#[derive(Clone, Copy, Debug)]
-pub struct Grid {
-    camera: Camera,
-    sampling: Sampling,
-    /// Rays per row.
-    pub width: u32,
-    /// Rays per column.
-    pub height: u32,
-}
-
-impl Grid {
-    /// The grid of `camera` under `sampling`.
-    pub fn new(camera: Camera, sampling: Sampling) -> Self {
-        let extra = match sampling {
-            Sampling::PixelCentres => 0,
-            Sampling::PixelCorners => 1,
-        };
-        Self {
-            camera,
-            sampling,
-            width: camera.width + extra,
-            height: camera.height + extra,
-        }
-    }
-
-    /// The primary ray `(x, y)` of the grid.
-    #[inline]
-    pub fn ray(&self, x: u32, y: u32) -> Ray {
-        match self.sampling {
-            Sampling::PixelCentres => self.camera.pixel_ray(x, y),
-            Sampling::PixelCorners => self.camera.ray(x as f32, y as f32),
-        }
-    }
 }
 
 /// Render `scene` through `accel` with `camera` on the threads of `pool`;
@@ -287,35 +135,6 @@ fn render_with<K: TraceKernel, A: Accel>(
         tiles,
         trace_seconds,
         tiles_x: grid.width.div_ceil(tile_size),
-    }
-}
-
-/// Call `f` on every block of primary rays of a tile, left to right, top to
-/// bottom: the rays, the lane mask of pixels inside the tile, and each lane's
-/// pixel index within the tile (row-major).
-#[inline]
-pub fn for_each_block(
-    grid: &Grid,
-    tile: &Tile,
-    block: Block,
-    mut f: impl FnMut(&Rays, u32, &[usize; BATCH]),
-) {
-    let (bw, bh) = block.dims();
-    for by in (0..tile.height).step_by(bh as usize) {
-        for bx in (0..tile.width).step_by(bw as usize) {
-            let mut rays = [grid.ray(tile.x, tile.y); BATCH];
-            let mut active = 0u32;
-            let mut index = [0usize; BATCH];
-            for lane in 0..BATCH as u32 {
-                let (x, y) = (bx + lane % bw, by + lane / bw);
-                if x < tile.width && y < tile.height {
-                    rays[lane as usize] = grid.ray(tile.x + x, tile.y + y);
-                    active |= 1 << lane;
-                    index[lane as usize] = (y * tile.width + x) as usize;
-                }
-            }
-            f(&rays, active, &index);
-        }
     }
 }
 
