@@ -73,11 +73,6 @@ impl AtomicFile {
         })
     }
 
-    /// The target path.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
     /// Write `bytes`, flush them to disk and rename the file onto the target.
     pub fn commit(mut self, bytes: &[u8]) -> Result<(), OutputError> {
         let path = self.path;

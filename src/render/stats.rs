@@ -7,7 +7,7 @@
 use std::ops::AddAssign;
 
 /// Rays traced, by kind. 48 bytes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct RayCounts {
     /// Primary rays from the camera.
     pub eye_rays: u64,

@@ -42,11 +42,6 @@ pub fn draw(img: &mut RgbImage, x: i64, y: i64, text: &str, scale: u32, color: R
     }
 }
 
-/// Width in image pixels of `text` drawn at `scale`.
-pub fn width(text: &str, scale: u32) -> u32 {
-    text.chars().count() as u32 * GLYPH * scale.max(1)
-}
-
 /// Break `text` into lines of at most `columns` characters at spaces (a word
 /// longer than a line is cut). Runs of two spaces separate fields in captions,
 /// and a line never starts with the space it was broken at.
@@ -97,7 +92,6 @@ mod tests {
         let mut none = RgbImage::new(4, 4);
         draw(&mut none, -100, 50, "hello", 3, Rgb([1, 1, 1]));
         assert!(none.pixels().all(|p| p.0 == [0, 0, 0]));
-        assert_eq!(width("abc", 2), 48);
     }
 
     #[test]
