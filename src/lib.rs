@@ -17,6 +17,7 @@ pub mod embree;
 pub mod geometry;
 pub mod packet;
 pub mod ray;
+pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod simd;

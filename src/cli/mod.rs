@@ -4,7 +4,9 @@ mod bench;
 mod check;
 mod r#gen;
 mod info;
+pub mod render;
 mod scene_arg;
+mod stats;
 mod trace;
 
 use std::process::ExitCode;
@@ -35,6 +37,10 @@ pub enum Command {
     Check(check::CheckArgs),
     /// Trace rays from a CSV file and write each nearest hit to a CSV file.
     Trace(trace::TraceArgs),
+    /// Render a scene into a timing-annotated PNG.
+    Render(render::Args),
+    /// Ray statistics: with --spd, the counts of the SPD's test procedure as JSON.
+    Stats(stats::Args),
 }
 
 /// Exit code for input the user can fix (bad scene file, unwritable output).
@@ -49,6 +55,8 @@ pub fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Check(args) => check::run(args),
         Command::Trace(args) => trace::run(args),
+        Command::Render(args) => render::run(args),
+        Command::Stats(args) => stats::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

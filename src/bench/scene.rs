@@ -1,0 +1,159 @@
+//! Scene throughput: primary rays per second through the tile scheduler, per
+//! kernel and thread count, shared by `raypack bench scene` and the criterion
+//! bench `benches/render.rs`.
+//!
+//! Every variant traces the same rays (the camera's pixel centres, in the same
+//! tiles and blocks) and only finds their nearest hits: no shading, no image.
+//! The variants are interleaved run by run after one warm-up each, so drift of
+//! a shared machine hits them alike; the best run is kept (and the median
+//! reported beside it).
+
+use std::time::Instant;
+
+use crate::accel::Accel;
+use crate::camera::Camera;
+use crate::render::kernel::TraceKernel;
+use crate::render::tiles::{self, Tile};
+use crate::render::whitted::lanes;
+use crate::render::{Block, Grid, KernelKind, Packet8Kernel, Sampling, ScalarKernel, for_each_block};
+
+/// A kernel, pixel block and thread count to measure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Variant {
+    /// Kernel.
+    pub kernel: KernelKind,
+    /// Pixel block per batch.
+    pub block: Block,
+    /// Worker threads.
+    pub threads: usize,
+}
+
+/// The timing of one variant.
+#[derive(Clone, Copy, Debug)]
+pub struct Timing {
+    /// What was measured.
+    pub variant: Variant,
+    /// Fastest run, seconds.
+    pub best_seconds: f64,
+    /// Median run, seconds.
+    pub median_seconds: f64,
+    /// Primary rays per run.
+    pub rays: u64,
+    /// Rays that hit something (the same for every variant).
+    pub hits: u64,
+}
+
+impl Timing {
+    /// Million primary rays per second of the best run.
+    pub fn mrays_per_s(&self) -> f64 {
+        self.rays as f64 / self.best_seconds / 1e6
+    }
+}
+
+/// The primary rays of one frame: the camera's grid cut into tiles.
+#[derive(Clone, Debug)]
+pub struct PrimaryFrame {
+    grid: Grid,
+    tiles: Vec<Tile>,
+}
+
+impl PrimaryFrame {
+    /// Rays through the pixel centres of `camera`, in `tile_size` tiles.
+    pub fn new(camera: &Camera, tile_size: u32) -> Self {
+        let grid = Grid::new(*camera, Sampling::PixelCentres);
+        Self {
+            tiles: tiles::tiles(grid.width, grid.height, tile_size),
+            grid,
+        }
+    }
+
+    /// Number of rays.
+    pub fn rays(&self) -> u64 {
+        u64::from(self.grid.width) * u64::from(self.grid.height)
+    }
+
+    /// Trace every primary ray's nearest hit on `pool` with `kernel`, in batches
+    /// of `block` pixels; returns how many hit.
+    pub fn trace<A: Accel>(
+        &self,
+        accel: &A,
+        kernel: KernelKind,
+        block: Block,
+        pool: &rayon::ThreadPool,
+    ) -> u64 {
+        match kernel {
+            KernelKind::Scalar => self.trace_with::<ScalarKernel, A>(accel, block, pool),
+            KernelKind::Packet8 => self.trace_with::<Packet8Kernel, A>(accel, block, pool),
+        }
+    }
+
+    fn trace_with<K: TraceKernel, A: Accel>(&self, accel: &A, block: Block, pool: &rayon::ThreadPool) -> u64 {
+        let per_tile = tiles::run(
+            pool,
+            &self.tiles,
+            |tile| {
+                let mut hits = 0u64;
+                for_each_block(&self.grid, tile, block, |rays, active, _| {
+                    let h = K::intersect(accel, rays, active);
+                    hits += lanes(active).filter(|&i| h[i].is_hit()).count() as u64;
+                });
+                hits
+            },
+            || {},
+        );
+        per_tile.iter().map(|t| t.value).sum()
+    }
+}
+
+/// Measure every variant `runs` times (interleaved, after a warm-up each).
+/// Fails if two variants disagree on the number of hits, which would mean the
+/// kernels do not trace the same scene.
+pub fn measure<A: Accel>(
+    accel: &A,
+    frame: &PrimaryFrame,
+    variants: &[Variant],
+    runs: usize,
+) -> Result<Vec<Timing>, String> {
+    let pools = variants
+        .iter()
+        .map(|v| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(v.threads)
+                .build()
+                .map_err(|e| format!("cannot start {} threads: {e}", v.threads))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut samples = vec![Vec::with_capacity(runs); variants.len()];
+    let mut hits = vec![0u64; variants.len()];
+    for (k, v) in variants.iter().enumerate() {
+        hits[k] = frame.trace(accel, v.kernel, v.block, &pools[k]);
+    }
+    if let Some(k) = hits.iter().position(|&h| h != hits[0]) {
+        return Err(format!(
+            "{:?} hits {} rays, {:?} hits {}",
+            variants[0], hits[0], variants[k], hits[k]
+        ));
+    }
+    for _ in 0..runs.max(1) {
+        for (k, v) in variants.iter().enumerate() {
+            let start = Instant::now();
+            std::hint::black_box(frame.trace(accel, v.kernel, v.block, &pools[k]));
+            samples[k].push(start.elapsed().as_secs_f64());
+        }
+    }
+    Ok(variants
+        .iter()
+        .zip(samples)
+        .zip(hits)
+        .map(|((&variant, mut s), hits)| {
+            s.sort_by(f64::total_cmp);
+            Timing {
+                variant,
+                best_seconds: s[0],
+                median_seconds: s[s.len() / 2],
+                rays: frame.rays(),
+                hits,
+            }
+        })
+        .collect())
+}

@@ -1,0 +1,206 @@
+//! `raypack render SCENE -o out.png`: render a scene into a timing-annotated PNG
+//! (and optionally a JSON sidecar with the same numbers).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args as ClapArgs;
+
+use crate::camera::Camera;
+use crate::cli::{CliError, CliResult};
+use crate::render::annotate::annotate_render;
+use crate::render::engine::{AccelKind, WithAccel, with_accel};
+use crate::render::output::{AtomicFile, png_bytes};
+use crate::render::progress::Progress;
+use crate::render::report::{RenderReport, RunInfo};
+use crate::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
+use crate::scene::Scene;
+
+/// Options of `render`.
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml).
+    pub scene: PathBuf,
+    /// Output PNG (written atomically: complete or not at all).
+    #[arg(short, long, default_value = "out.png")]
+    pub output: PathBuf,
+    /// What a pixel shows.
+    #[arg(long, value_enum, default_value_t = Mode::Whitted)]
+    pub mode: Mode,
+    /// Trace rays one at a time or in 8-wide packets.
+    #[arg(long, value_enum, default_value_t = KernelKind::Packet8)]
+    pub kernel: KernelKind,
+    /// Pixel block traced as one packet.
+    #[arg(long, value_enum, default_value_t = Block::B4x2)]
+    pub block: Block,
+    /// Tile edge in pixels (tiles are scheduled with rayon's work stealing).
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub tile: u32,
+    /// Worker threads (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub threads: Option<u16>,
+    /// Acceleration structure.
+    #[arg(long, value_enum, default_value_t = AccelKind::None)]
+    pub accel: AccelKind,
+    /// Maximum ray depth in whitted mode (the eye ray is depth 1).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub depth: u32,
+    /// Image size WxH (default: the scene camera's).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Put a heat map of the time per tile beside the image.
+    #[arg(long)]
+    pub heatmap: bool,
+    /// Leave out the caption band (and heat map): the bare render.
+    #[arg(long, conflicts_with = "heatmap")]
+    pub no_caption: bool,
+    /// Also write the numbers as JSON to this file.
+    #[arg(long)]
+    pub stats_json: Option<PathBuf>,
+}
+
+/// Parse `WxH` into a non-empty image size.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got {s:?}"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|&n| (1..=65536).contains(&n))
+            .ok_or_else(|| format!("expected a size from 1 to 65536, got {v:?}"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// A thread pool of `threads` workers (all cores when None).
+pub fn thread_pool(threads: Option<u16>) -> Result<rayon::ThreadPool, CliError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.map_or(0, usize::from))
+        .build()
+        .map_err(|e| CliError::Failed(anyhow::anyhow!("cannot start the worker threads: {e}")))
+}
+
+/// Load a scene, timing it; a bad file is the user's to fix (exit 2).
+pub fn load_scene(path: &Path) -> Result<(Scene, f64), CliError> {
+    let start = Instant::now();
+    let scene = crate::scene::load(path).map_err(|e| CliError::BadInput(e.into()))?;
+    Ok((scene, start.elapsed().as_secs_f64()))
+}
+
+/// The scene's camera (or a default one that frames it) at `size` or its own resolution.
+pub fn scene_camera(scene: &Scene, path: &Path, size: Option<(u32, u32)>) -> Result<Camera, CliError> {
+    let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
+    let (w, h) = size.unwrap_or((spec.width, spec.height));
+    spec.camera_at(w, h)
+        .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))
+}
+
+fn output_error(e: crate::render::output::OutputError) -> CliError {
+    CliError::BadInput(e.into())
+}
+
+/// Render with whichever acceleration structure was chosen.
+struct Job<'a> {
+    scene: &'a Scene,
+    camera: &'a Camera,
+    settings: &'a RenderSettings,
+    pool: &'a rayon::ThreadPool,
+}
+
+impl WithAccel for Job<'_> {
+    type Output = (Render, f64);
+
+    fn run<A: crate::accel::Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
+        let tiles = self.camera.width.div_ceil(self.settings.tile_size)
+            * self.camera.height.div_ceil(self.settings.tile_size);
+        let progress = Progress::new(tiles as usize);
+        let out = render(self.scene, accel, self.camera, self.settings, self.pool, || {
+            progress.tile_done()
+        });
+        progress.finish();
+        (out, setup_seconds)
+    }
+}
+
+/// Run `render`.
+pub fn run(args: Args) -> CliResult {
+    // Claim the outputs first: an unwritable path fails before any work is done.
+    let is_png = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !is_png {
+        return Err(CliError::BadInput(anyhow::anyhow!(
+            "cannot write {}: the output must be a .png file",
+            args.output.display()
+        )));
+    }
+    let image_file = AtomicFile::create(&args.output).map_err(output_error)?;
+    let json_file = args
+        .stats_json
+        .as_deref()
+        .map(AtomicFile::create)
+        .transpose()
+        .map_err(output_error)?;
+
+    let (scene, load_seconds) = load_scene(&args.scene)?;
+    let camera = scene_camera(&scene, &args.scene, args.size)?;
+    let pool = thread_pool(args.threads)?;
+    let settings = RenderSettings {
+        mode: args.mode,
+        kernel: args.kernel,
+        block: args.block,
+        tile_size: args.tile,
+        max_depth: args.depth,
+        sampling: Sampling::PixelCentres,
+    };
+    let job = Job {
+        scene: &scene,
+        camera: &camera,
+        settings: &settings,
+        pool: &pool,
+    };
+    let (out, setup_seconds) = with_accel(&scene, args.accel, job);
+
+    let report = RenderReport::new(
+        &scene,
+        &out,
+        &RunInfo {
+            kernel: args.kernel,
+            block: args.block,
+            mode: args.mode,
+            accel: args.accel.name(),
+            threads: pool.current_num_threads(),
+            tile_size: args.tile,
+            max_depth: args.depth,
+            load_seconds,
+            setup_seconds,
+        },
+    );
+    let image = if args.no_caption {
+        out.frame.to_rgb8()
+    } else {
+        annotate_render(&out, &report, args.heatmap)
+    };
+    image_file.commit(&png_bytes(&image)).map_err(output_error)?;
+    if let Some(file) = json_file {
+        let json = serde_json::to_string_pretty(&report).map_err(anyhow::Error::from)?;
+        file.commit(json.as_bytes()).map_err(output_error)?;
+    }
+    println!(
+        "wrote {} ({}x{} {}, {} {}, {} threads): trace {:.1} ms, {:.2} Mrays/s, {} rays",
+        args.output.display(),
+        report.width,
+        report.height,
+        report.mode.name(),
+        report.kernel.name(),
+        report.block.name(),
+        report.threads,
+        report.trace_ms,
+        report.mrays_per_s,
+        report.rays_total
+    );
+    Ok(())
+}

@@ -1,0 +1,75 @@
+//! `raypack stats SCENE --spd`: a scene's ray counts under the SPD's test
+//! procedure, as one JSON object. (`--spd` names the procedure; it is the only
+//! one so far, so the flag is required.)
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args as ClapArgs;
+
+use crate::accel::Accel;
+use crate::cli::render::{load_scene, thread_pool};
+use crate::cli::{CliError, CliResult};
+use crate::render::engine::{AccelKind, WithAccel, with_accel};
+use crate::render::spd::spd_counts;
+use crate::render::{KernelKind, RayCounts};
+use crate::scene::Scene;
+
+/// Options of `stats`.
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    /// Scene file.
+    pub scene: PathBuf,
+    /// Count rays the SPD way: 512x512, eye rays through pixel corners (513x513), depth 5.
+    #[arg(long, required = true)]
+    pub spd: bool,
+    /// Kernel (the counts are the same for both).
+    #[arg(long, value_enum, default_value_t = KernelKind::Packet8)]
+    pub kernel: KernelKind,
+    /// Worker threads (default: one per core).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub threads: Option<u16>,
+    /// Acceleration structure.
+    #[arg(long, value_enum, default_value_t = AccelKind::None)]
+    pub accel: AccelKind,
+}
+
+/// SPD counts with the time they took (reported on stderr, apart from the counts).
+struct Spd<'a> {
+    scene: &'a Scene,
+    kernel: KernelKind,
+    pool: &'a rayon::ThreadPool,
+}
+
+impl WithAccel for Spd<'_> {
+    type Output = Result<(RayCounts, f64, f64), crate::camera::CameraError>;
+
+    fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
+        let start = Instant::now();
+        let counts = spd_counts(self.scene, accel, self.kernel, self.pool)?;
+        Ok((counts, setup_seconds, start.elapsed().as_secs_f64()))
+    }
+}
+
+/// Run `stats`.
+pub fn run(args: Args) -> CliResult {
+    let (scene, _) = load_scene(&args.scene)?;
+    let pool = thread_pool(args.threads)?;
+    let job = Spd {
+        scene: &scene,
+        kernel: args.kernel,
+        pool: &pool,
+    };
+    let (counts, setup, trace) = with_accel(&scene, args.accel, job)
+        .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", args.scene.display())))?;
+    eprintln!(
+        "spd: {} kernel, accel {}, {} threads: setup {:.1} ms, trace {:.1} ms",
+        args.kernel.name(),
+        args.accel.name(),
+        pool.current_num_threads(),
+        1e3 * setup,
+        1e3 * trace
+    );
+    println!("{}", serde_json::to_string(&counts).map_err(anyhow::Error::from)?);
+    Ok(())
+}

@@ -1,0 +1,178 @@
+//! Rendering: rayon tiles, ray casting and Whitted ray tracing through the
+//! scalar or the packet kernels, ray statistics, and timing-annotated images.
+//!
+//! [`render`] traces a grid of primary rays (pixel centres for images, pixel
+//! corners for the SPD's statistics) tile by tile. Inside a tile the rays go in
+//! batches of 8, a 4×2 or 8×1 pixel block, through a [`TraceKernel`]: every query
+//! of a batch, primary, reflection, refraction or shadow, is one packet query
+//! with a lane mask (or 8 scalar queries), and the shading between queries is the
+//! same scalar code for both kernels. Scalar and packet renders therefore trace
+//! the same rays and give the same images and ray counts.
+
+pub mod annotate;
+pub mod colormap;
+pub mod engine;
+pub mod frame;
+pub mod grid;
+pub mod kernel;
+pub mod optics;
+pub mod output;
+pub mod progress;
+pub mod report;
+pub mod settings;
+pub mod shade;
+pub mod spd;
+pub mod stats;
+pub mod surface;
+pub mod text;
+pub mod tiles;
+pub mod whitted;
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+pub use frame::Frame;
+pub use grid::{Grid, for_each_block};
+pub use kernel::{Packet8Kernel, PacketKernel, ScalarKernel, TraceKernel};
+pub use settings::{Block, KernelKind, Mode, RenderSettings, Sampling};
+pub use stats::RayCounts;
+pub use tiles::Tile;
+pub use whitted::Tracer;
+
+use crate::accel::Accel;
+use crate::camera::Camera;
+use crate::scene::Scene;
+use kernel::BATCH;
+use whitted::lanes;
+
+/// A finished render: the frame, the tiles with their times, the ray counts.
+#[derive(Clone, Debug)]
+pub struct Render {
+    /// The image and its primary hits (one entry per primary ray).
+    pub frame: Frame,
+    /// The tiles, in row-major order.
+    pub tiles: Vec<Tile>,
+    /// CPU seconds spent in each tile (see [`tiles`]).
+    pub tile_seconds: Vec<f64>,
+    /// Rays traced, by kind.
+    pub counts: RayCounts,
+    /// Wall-clock seconds of the whole trace.
+    pub trace_seconds: f64,
+    /// Tiles per row.
+    pub tiles_x: u32,
+}
+
+/// Render `scene` through `accel` with `camera` on the threads of `pool`;
+/// `on_tile` is called as each tile finishes.
+pub fn render<A: Accel>(
+    scene: &Scene,
+    accel: &A,
+    camera: &Camera,
+    settings: &RenderSettings,
+    pool: &rayon::ThreadPool,
+    on_tile: impl Fn() + Sync,
+) -> Render {
+    match settings.kernel {
+        KernelKind::Scalar => render_with::<ScalarKernel, A>(scene, accel, camera, settings, pool, on_tile),
+        KernelKind::Packet8 => render_with::<Packet8Kernel, A>(scene, accel, camera, settings, pool, on_tile),
+    }
+}
+
+/// One tile's pixels, in row-major order within the tile.
+struct TileOut {
+    color: Vec<Vec3>,
+    depth: Vec<f32>,
+    prim: Vec<u32>,
+    counts: RayCounts,
+}
+
+fn render_with<K: TraceKernel, A: Accel>(
+    scene: &Scene,
+    accel: &A,
+    camera: &Camera,
+    settings: &RenderSettings,
+    pool: &rayon::ThreadPool,
+    on_tile: impl Fn() + Sync,
+) -> Render {
+    let grid = Grid::new(*camera, settings.sampling);
+    let tracer = Tracer {
+        scene,
+        accel,
+        epsilon: whitted::ray_epsilon(scene, camera.eye),
+        max_depth: settings.max_depth.max(1),
+    };
+    let tile_size = settings.tile_size.max(1);
+    let tiles = tiles::tiles(grid.width, grid.height, tile_size);
+    let start = Instant::now();
+    let done = tiles::run(
+        pool,
+        &tiles,
+        |tile| trace_tile::<K, A>(&tracer, &grid, tile, settings),
+        on_tile,
+    );
+    let trace_seconds = start.elapsed().as_secs_f64();
+
+    // Assemble the frame from the tiles.
+    let mut frame = Frame::new(grid.width, grid.height);
+    for (tile, out) in tiles.iter().zip(&done) {
+        for row in 0..tile.height {
+            let src = (row * tile.width) as usize..((row + 1) * tile.width) as usize;
+            let dst = frame.index(tile.x, tile.y + row);
+            let dst = dst..dst + tile.width as usize;
+            frame.color[dst.clone()].copy_from_slice(&out.value.color[src.clone()]);
+            frame.depth[dst.clone()].copy_from_slice(&out.value.depth[src.clone()]);
+            frame.prim[dst].copy_from_slice(&out.value.prim[src]);
+        }
+    }
+    if settings.mode == Mode::Depth {
+        frame.color = shade::depth(&frame.depth);
+    }
+    Render {
+        frame,
+        tile_seconds: done.iter().map(|d| d.seconds).collect(),
+        counts: done.iter().map(|d| d.value.counts).sum(),
+        tiles,
+        trace_seconds,
+        tiles_x: grid.width.div_ceil(tile_size),
+    }
+}
+
+fn trace_tile<K: TraceKernel, A: Accel>(
+    tracer: &Tracer<A>,
+    grid: &Grid,
+    tile: &Tile,
+    settings: &RenderSettings,
+) -> TileOut {
+    let n = tile.pixels();
+    let mut out = TileOut {
+        color: vec![Vec3::ZERO; n],
+        depth: vec![f32::INFINITY; n],
+        prim: vec![crate::ray::NO_HIT; n],
+        counts: RayCounts::default(),
+    };
+    let scene = tracer.scene;
+    for_each_block(grid, tile, settings.block, |rays, active, index| {
+        let hits = K::intersect(tracer.accel, rays, active);
+        out.counts.eye_rays += u64::from(active.count_ones());
+        out.counts.eye_hits += lanes(active).filter(|&i| hits[i].is_hit()).count() as u64;
+        let color: [Vec3; BATCH] = match settings.mode {
+            Mode::Whitted => tracer.shade::<K>(rays, active, &hits, 1, &mut out.counts),
+            Mode::Cast => std::array::from_fn(|i| shade::cast(scene, &rays[i], &hits[i])),
+            Mode::Normals => std::array::from_fn(|i| shade::normals(scene, &rays[i], &hits[i])),
+            Mode::Id => std::array::from_fn(|i| shade::id(&hits[i])),
+            // Depth needs the whole image's range: coloured after the trace.
+            Mode::Depth => [Vec3::ZERO; BATCH],
+        };
+        for i in lanes(active) {
+            out.color[index[i]] = color[i];
+            out.depth[index[i]] = if hits[i].is_hit() {
+                hits[i].t
+            } else {
+                f32::INFINITY
+            };
+            out.prim[index[i]] = hits[i].prim;
+        }
+    });
+    out
+}

@@ -1,0 +1,120 @@
+//! How to render: shading mode, kernel, pixel block, tile size, depth limit, sampling.
+
+/// What a pixel shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// Ray casting: the nearest object's colour under a headlight.
+    Cast,
+    /// The shading normal as a colour.
+    Normals,
+    /// Distance of the primary hit as grey levels.
+    Depth,
+    /// A colour per primitive.
+    Id,
+    /// Recursive ray tracing: shadows, reflection, refraction.
+    Whitted,
+}
+
+impl Mode {
+    /// Name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Cast => "cast",
+            Mode::Normals => "normals",
+            Mode::Depth => "depth",
+            Mode::Id => "id",
+            Mode::Whitted => "whitted",
+        }
+    }
+}
+
+/// Which kernels trace the rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum KernelKind {
+    /// One ray at a time.
+    Scalar,
+    /// 8-wide SIMD packets.
+    Packet8,
+}
+
+impl KernelKind {
+    /// Name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            KernelKind::Scalar => "scalar",
+            KernelKind::Packet8 => "packet8",
+        }
+    }
+}
+
+/// The pixel block traced as one batch (one packet).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Block {
+    /// 4 pixels wide, 2 high.
+    #[value(name = "4x2")]
+    #[serde(rename = "4x2")]
+    B4x2,
+    /// 8 pixels wide, 1 high.
+    #[value(name = "8x1")]
+    #[serde(rename = "8x1")]
+    B8x1,
+}
+
+impl Block {
+    /// `(width, height)` in pixels.
+    pub fn dims(self) -> (u32, u32) {
+        match self {
+            Block::B4x2 => (4, 2),
+            Block::B8x1 => (8, 1),
+        }
+    }
+
+    /// Name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Block::B4x2 => "4x2",
+            Block::B8x1 => "8x1",
+        }
+    }
+}
+
+/// Where the primary rays go through the image plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampling {
+    /// Pixel centres: `width × height` rays (images).
+    PixelCentres,
+    /// Pixel corners: `(width + 1) × (height + 1)` rays (the SPD's statistics).
+    PixelCorners,
+}
+
+/// How to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// What a pixel shows.
+    pub mode: Mode,
+    /// Scalar or packet kernels.
+    pub kernel: KernelKind,
+    /// Pixel block per batch.
+    pub block: Block,
+    /// Tile edge in pixels.
+    pub tile_size: u32,
+    /// Maximum ray tree depth in `whitted` mode (eye ray = 1).
+    pub max_depth: u32,
+    /// Pixel centres or corners.
+    pub sampling: Sampling,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            mode: Mode::Whitted,
+            kernel: KernelKind::Packet8,
+            block: Block::B4x2,
+            tile_size: 16,
+            max_depth: 5,
+            sampling: Sampling::PixelCentres,
+        }
+    }
+}

@@ -1,0 +1,47 @@
+//! Ray statistics the way the Standard Procedural Databases count them
+//! (E. Haines, IEEE CG&A 7(11), 1987; the rules in `shared/reference/NFF.md`):
+//! a 512×512 image with eye rays through the pixel *corners* (513×513 rays),
+//! Whitted tracing to depth 5 (the eye ray is depth 1), a reflection ray at
+//! every hit on Ks > 0, a refraction ray at every hit on T > 0 (only the
+//! reflection on total internal reflection), no shadow ray where the normal
+//! faces away from the light, no adaptive depth cut-off.
+//!
+//! The counts are the engine's external correctness oracle: for SPD-generated
+//! files they should lie within 10% of the published figures, and they are the
+//! same for the scalar and the packet kernels.
+
+use crate::accel::Accel;
+use crate::camera::CameraError;
+use crate::render::{Block, KernelKind, Mode, RayCounts, RenderSettings, Sampling, render};
+use crate::scene::Scene;
+
+/// Image edge of the SPD's test procedure.
+pub const SPD_SIZE: u32 = 512;
+/// Maximum tree depth of the SPD's test procedure.
+pub const SPD_DEPTH: u32 = 5;
+
+/// The render settings of the SPD's test procedure with the given kernel.
+pub fn spd_settings(kernel: KernelKind) -> RenderSettings {
+    RenderSettings {
+        mode: Mode::Whitted,
+        kernel,
+        block: Block::B4x2,
+        tile_size: 16,
+        max_depth: SPD_DEPTH,
+        sampling: Sampling::PixelCorners,
+    }
+}
+
+/// Trace `scene` the SPD way and count its rays. The scene's own camera is
+/// used (its view, not its resolution); a scene without one gets
+/// [`Scene::default_camera`].
+pub fn spd_counts<A: Accel>(
+    scene: &Scene,
+    accel: &A,
+    kernel: KernelKind,
+    pool: &rayon::ThreadPool,
+) -> Result<RayCounts, CameraError> {
+    let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
+    let camera = spec.camera_at(SPD_SIZE, SPD_SIZE)?;
+    Ok(render(scene, accel, &camera, &spd_settings(kernel), pool, || {}).counts)
+}

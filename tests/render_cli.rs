@@ -1,0 +1,177 @@
+//! The `render`, `stats` and `bench scene` command lines: bad input is a clear
+//! error with exit code 2 and leaves no file behind; every scene file shipped
+//! in `scenes/` renders in every mode.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use raypack::accel::BruteForce;
+use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render};
+
+fn raypack(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raypack"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("raypack-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn an_output_path_that_cannot_be_written_is_a_clear_error() {
+    let dir = scratch("unwritable");
+    let missing = dir.join("no/such/dir/out.png");
+    let o = raypack(&["render", "scene.nff", "-o", missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains(missing.to_str().unwrap()) && e.contains("does not exist"),
+        "{e}"
+    );
+
+    // A directory as output.
+    let o = raypack(&["render", "scene.nff", "-o", dir.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("cannot write"), "{}", stderr(&o));
+
+    // Not a PNG name.
+    let jpg = dir.join("out.jpg");
+    let o = raypack(&["render", "scene.nff", "-o", jpg.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains(".png"), "{}", stderr(&o));
+
+    // An unwritable sidecar path fails too, before any work.
+    let o = raypack(&[
+        "render",
+        "scene.nff",
+        "-o",
+        dir.join("ok.png").to_str().unwrap(),
+        "--stats-json",
+        missing.with_extension("json").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("out.json"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "files left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_scene_that_cannot_be_read_leaves_no_output_file() {
+    let dir = scratch("bad-scene");
+    let out = dir.join("out.png");
+    let o = raypack(&[
+        "render",
+        dir.join("missing.nff").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("missing.nff"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "files left behind");
+    for args in [
+        vec!["stats", "missing.nff", "--spd"],
+        vec!["bench", "scene", "missing.nff"],
+    ] {
+        let o = raypack(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_options_are_rejected() {
+    for args in [
+        vec!["render", "s.nff", "--tile", "0"],
+        vec!["render", "s.nff", "--size", "0x10"],
+        vec!["render", "s.nff", "--size", "100"],
+        vec!["render", "s.nff", "--kernel", "packet16"],
+        vec!["render", "s.nff", "--depth", "0"],
+        vec!["bench", "scene", "s.nff", "--threads", "1,0"],
+        vec!["stats", "s.nff"],
+    ] {
+        let o = raypack(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+    }
+}
+
+/// The scene files of the repository (none until the loaders land).
+fn scene_files() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return Vec::new();
+    };
+    let mut files: Vec<PathBuf> = entries
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_scene_file_renders_in_every_mode() {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    for path in scene_files() {
+        let scene = raypack::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
+        // Small images: every mode on every scene, with brute force.
+        let camera = spec.camera_at(48, 48).unwrap();
+        let accel = BruteForce::new(&scene.primitives);
+        for mode in [Mode::Cast, Mode::Normals, Mode::Depth, Mode::Id, Mode::Whitted] {
+            let settings = RenderSettings {
+                mode,
+                kernel: KernelKind::Packet8,
+                block: Block::B4x2,
+                tile_size: 16,
+                max_depth: 5,
+                sampling: Sampling::PixelCentres,
+            };
+            let r = render(&scene, &accel, &camera, &settings, &pool, || {});
+            assert_eq!(r.counts.eye_rays, 48 * 48, "{} {mode:?}", path.display());
+            assert!(
+                r.frame.color.iter().all(|c| c.is_finite()),
+                "{} {mode:?}",
+                path.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn the_first_scene_file_renders_through_the_command_line_with_a_sidecar() {
+    let Some(path) = scene_files().into_iter().next() else {
+        return;
+    };
+    let dir = scratch("first-scene");
+    let (png, json) = (dir.join("out.png"), dir.join("out.json"));
+    let o = raypack(&[
+        "render",
+        path.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "--heatmap",
+        "--stats-json",
+        json.to_str().unwrap(),
+        "--threads",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = image::open(&png).unwrap();
+    assert!(img.width() > 2 * 64 && img.height() > 48);
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert_eq!(report["width"], 64);
+    assert_eq!(report["rays"]["eye_rays"], 64 * 48);
+    assert_eq!(report["threads"], 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

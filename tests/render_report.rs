@@ -1,0 +1,124 @@
+//! The numbers around a render: the JSON sidecar and caption, the annotated
+//! image, and the scene benchmark's measurements.
+
+mod render_support;
+
+use raypack::accel::BruteForce;
+use raypack::bench::scene::{PrimaryFrame, Variant, measure};
+use raypack::render::annotate::annotate_render;
+use raypack::render::report::{RenderReport, RunInfo};
+use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render};
+
+#[test]
+fn sidecar_caption_and_image_carry_the_same_numbers() {
+    let scene = render_support::mixed_scene(20, 4);
+    let camera = scene.camera.unwrap().camera_at(80, 40).unwrap();
+    let settings = RenderSettings {
+        mode: Mode::Whitted,
+        kernel: KernelKind::Packet8,
+        block: Block::B8x1,
+        tile_size: 16,
+        max_depth: 4,
+        sampling: Sampling::PixelCentres,
+    };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let out = render(
+        &scene,
+        &BruteForce::new(&scene.primitives),
+        &camera,
+        &settings,
+        &pool,
+        || {},
+    );
+    let info = RunInfo {
+        kernel: settings.kernel,
+        block: settings.block,
+        mode: settings.mode,
+        accel: "none",
+        threads: 2,
+        tile_size: 16,
+        max_depth: 4,
+        load_seconds: 0.001,
+        setup_seconds: 0.002,
+    };
+    let report = RenderReport::new(&scene, &out, &info);
+    let json: serde_json::Value = serde_json::to_value(&report).unwrap();
+    assert_eq!(json["scene"], "mixed-20-4");
+    assert_eq!(json["engine"], "raypack");
+    assert_eq!(json["kernel"], "packet8");
+    assert_eq!(json["block"], "8x1");
+    assert_eq!(json["mode"], "whitted");
+    assert_eq!(
+        (json["width"].as_u64(), json["height"].as_u64()),
+        (Some(80), Some(40))
+    );
+    assert_eq!(json["rays"]["eye_rays"], 3200);
+    assert_eq!(json["rays_total"].as_u64(), Some(out.counts.total()));
+    assert_eq!(json["primitives"].as_u64(), Some(scene.primitives.len() as u64));
+    assert_eq!(json["primitive_kinds"]["sphere"], 20);
+    assert!((json["setup_ms"].as_f64().unwrap() - 2.0).abs() < 1e-9);
+    // 80x40 in 16px tiles: 5 columns, 3 rows.
+    assert_eq!(
+        (json["tiles"]["columns"].as_u64(), json["tiles"]["rows"].as_u64()),
+        (Some(5), Some(3))
+    );
+    assert_eq!(json["tiles"]["ms"].as_array().unwrap().len(), 15);
+    let mrays = out.counts.total() as f64 / out.trace_seconds / 1e6;
+    assert!((json["mrays_per_s"].as_f64().unwrap() - mrays).abs() < 1e-9 * mrays.max(1.0));
+
+    let caption = report.caption().join("\n");
+    for needle in [
+        "mixed-20-4".to_string(),
+        "80x40".to_string(),
+        "packet8".to_string(),
+        "threads: 2".to_string(),
+        format!("eye {}", out.counts.eye_rays),
+        format!("shadow {}", out.counts.shadow_rays),
+        format!("reflect {}", out.counts.reflect_rays),
+        format!("{:.2} Mrays/s", report.mrays_per_s),
+    ] {
+        assert!(caption.contains(&needle), "caption lacks {needle:?}:\n{caption}");
+    }
+
+    let plain = annotate_render(&out, &report, false);
+    let heat = annotate_render(&out, &report, true);
+    assert_eq!(plain.width(), 80);
+    assert!(plain.height() > 40);
+    assert!(heat.width() > 160);
+    // The render sits unchanged in the top-left corner of both.
+    let picture = out.frame.to_rgb8();
+    for (x, y) in [(0, 0), (79, 39), (40, 20)] {
+        assert_eq!(plain.get_pixel(x, y), picture.get_pixel(x, y));
+        assert_eq!(heat.get_pixel(x, y), picture.get_pixel(x, y));
+    }
+}
+
+#[test]
+fn scene_bench_measures_every_variant_on_the_same_rays() {
+    let scene = render_support::sphere_cloud(40, 3, 64);
+    let camera = scene.camera.unwrap().camera().unwrap();
+    let frame = PrimaryFrame::new(&camera, 16);
+    let mut variants = Vec::new();
+    for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
+        for block in [Block::B4x2, Block::B8x1] {
+            for threads in [1, 2] {
+                variants.push(Variant {
+                    kernel,
+                    block,
+                    threads,
+                });
+            }
+        }
+    }
+    let timings = measure(&BruteForce::new(&scene.primitives), &frame, &variants, 2).unwrap();
+    assert_eq!(timings.len(), 8);
+    let hits = timings[0].hits;
+    assert!(hits > 0 && hits < 64 * 64);
+    for (t, v) in timings.iter().zip(&variants) {
+        assert_eq!(t.variant, *v);
+        assert_eq!(t.rays, 64 * 64);
+        assert_eq!(t.hits, hits);
+        assert!(t.best_seconds > 0.0 && t.best_seconds <= t.median_seconds);
+        assert!(t.mrays_per_s() > 0.0);
+    }
+}
