@@ -94,10 +94,15 @@ impl Intersect for Sphere {
         let b = -oc.dot(rays.dir);
         let l = oc + rays.dir.scale(b);
         let quarter_disc = F::splat(self.radius * self.radius) - l.dot(l);
+        // Most rays of a packet miss most spheres: skip the roots when none crosses.
+        let crosses = rays.active & quarter_disc.ge(F::splat(0.0));
+        if crosses.none() {
+            return;
+        }
         let s = quarter_disc.sqrt();
         let near = if self.inside_only { b + s } else { b - s };
         let t = near.ge(rays.t_min).select(near, b + s);
-        let mask = hits.accepts(rays, t, prim) & quarter_disc.ge(F::splat(0.0));
+        let mask = hits.accepts(rays, t, prim) & crosses;
         let zero = F::splat(0.0);
         hits.record(mask, t, prim, zero, zero);
     }
