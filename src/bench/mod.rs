@@ -1,3 +1,4 @@
 //! Measurement code shared by the `raypack bench` command and the criterion benches.
 
 pub mod kernels;
+pub mod scenes;

@@ -55,8 +55,8 @@ impl Intersect for Sphere {
         let b = -oc.dot(ray.dir);
         let l = oc + b * ray.dir;
         let quarter_disc = self.radius * self.radius - l.dot(l);
-        // `!(x >= 0)` also rejects NaN.
-        if !(quarter_disc >= 0.0) {
+        // Rejects negative and NaN discriminants alike.
+        if quarter_disc.is_nan() || quarter_disc < 0.0 {
             return false;
         }
         let s = quarter_disc.sqrt();
