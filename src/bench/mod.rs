@@ -2,3 +2,4 @@
 
 pub mod kernels;
 pub mod scenes;
+pub mod traversal;

@@ -17,7 +17,7 @@
 //! too deep, the node is split at the median centroid instead, which bounds the
 //! depth by [`SAH_DEPTH_LIMIT`] + 32.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 use crate::accel::bvh::node::{Node, NodePair};
 use crate::bounds::Aabb;
@@ -66,22 +66,85 @@ pub struct Built {
 
 /// Build over the primitive boxes `boxes` (finite, non-empty list).
 pub fn build(boxes: &[Aabb], options: &BuildOptions) -> Built {
-    let centroids: Vec<Vec3> = boxes.iter().map(|b| 0.5 * b.min + 0.5 * b.max).collect();
     let ctx = Context {
-        boxes,
-        centroids: &centroids,
         bins: options.bins.clamp(2, MAX_BINS),
         max_leaf: options.max_leaf_size.max(1),
         c_trav: options.traversal_cost,
         c_isect: options.intersection_cost,
     };
-    let mut order: Vec<u32> = (0..boxes.len() as u32).collect();
-    let bounds = boxes.iter().fold(Aabb::EMPTY, |a, b| a.union(*b));
-    let tree = ctx.subtree(&mut order, 0, bounds, 0);
+    let mut refs: Vec<PrimRef> = boxes
+        .iter()
+        .enumerate()
+        .map(|(i, b)| PrimRef {
+            bounds: Box3::new(b.min.into(), b.max.into()),
+            id: i as u32,
+        })
+        .collect();
+    let bounds = refs.iter().fold(Box3::EMPTY, |a, r| a.union(&r.bounds));
+    let centroids = refs.iter().fold(Box3::EMPTY, |a, r| a.grow(r.centroid()));
+    let tree = ctx.subtree(&mut refs, 0, bounds, centroids, 0);
     // Flatten depth first: a node's children pair, then the left subtree, then the right.
     let mut pairs = vec![NodePair([Node::EMPTY; 2])];
     pairs[0].0[0] = emit(&tree, &mut pairs);
-    Built { pairs, order }
+    Built {
+        pairs,
+        order: refs.iter().map(|r| r.id).collect(),
+    }
+}
+
+/// A box in SIMD-friendly form (glam's 16-byte `Vec3A`). 32 bytes.
+#[derive(Clone, Copy, Debug)]
+struct Box3 {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl Box3 {
+    const EMPTY: Box3 = Box3 {
+        min: Vec3A::splat(f32::INFINITY),
+        max: Vec3A::splat(f32::NEG_INFINITY),
+    };
+
+    #[inline(always)]
+    fn new(min: Vec3A, max: Vec3A) -> Self {
+        Self { min, max }
+    }
+
+    #[inline(always)]
+    fn union(&self, o: &Box3) -> Box3 {
+        Box3::new(self.min.min(o.min), self.max.max(o.max))
+    }
+
+    #[inline(always)]
+    fn grow(&self, p: Vec3A) -> Box3 {
+        Box3::new(self.min.min(p), self.max.max(p))
+    }
+
+    /// Surface area; 0 for the empty box.
+    #[inline(always)]
+    fn area(&self) -> f32 {
+        let e = (self.max - self.min).max(Vec3A::ZERO);
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    fn to_aabb(self) -> Aabb {
+        Aabb::new(Vec3::from(self.min), Vec3::from(self.max))
+    }
+}
+
+/// A primitive's box and input index: what the builder sorts. The builder moves
+/// these (not indices into the boxes), so its passes read memory in order. 48 bytes.
+#[derive(Clone, Copy, Debug)]
+struct PrimRef {
+    bounds: Box3,
+    id: u32,
+}
+
+impl PrimRef {
+    #[inline(always)]
+    fn centroid(&self) -> Vec3A {
+        0.5 * self.bounds.min + 0.5 * self.bounds.max
+    }
 }
 
 /// The tree while it is being built.
@@ -117,68 +180,84 @@ fn emit(t: &Temp, pairs: &mut Vec<NodePair>) -> Node {
     }
 }
 
-/// The best split found by binning.
+/// The best split found by binning: bins `0..=last_left` along `axis` go left.
 struct Split {
     axis: usize,
-    /// Bins `0..=last_left` go left.
     last_left: usize,
     cost: f32,
-    left: Aabb,
-    right: Aabb,
 }
 
-/// One SAH bin: the primitives whose centroids fall in it. 28 bytes.
+/// One SAH bin: the primitives whose centroids fall in it. 48 bytes.
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
+    bounds: Box3,
     count: u32,
 }
 
-/// Everything a node's build reads.
-struct Context<'a> {
-    boxes: &'a [Aabb],
-    centroids: &'a [Vec3],
+impl Bin {
+    const EMPTY: Bin = Bin {
+        bounds: Box3::EMPTY,
+        count: 0,
+    };
+
+    #[inline(always)]
+    fn add(&self, o: &Bin) -> Bin {
+        Bin {
+            bounds: self.bounds.union(&o.bounds),
+            count: self.count + o.count,
+        }
+    }
+}
+
+/// The builder's settings.
+struct Context {
     bins: usize,
     max_leaf: usize,
     c_trav: f32,
     c_isect: f32,
 }
 
-impl Context<'_> {
+/// How a node's primitives are divided between its children.
+struct Division {
+    axis: usize,
+    /// Primitives going left (they come first in the node's range).
+    left_count: usize,
+    /// Boxes and centroid boxes of the two children.
+    children: [(Box3, Box3); 2],
+}
+
+impl Context {
     /// Build the node holding `refs` (primitives `first..first + refs.len()` of
-    /// the final order) whose box is `bounds`.
-    fn subtree(&self, refs: &mut [u32], first: u32, bounds: Aabb, depth: usize) -> Temp {
+    /// the final order), whose box is `bounds` and centroid box `centroids`.
+    fn subtree(&self, refs: &mut [PrimRef], first: u32, bounds: Box3, centroids: Box3, depth: usize) -> Temp {
         let n = refs.len();
         let leaf = Temp::Leaf {
-            bounds,
+            bounds: bounds.to_aabb(),
             first,
             count: n as u32,
         };
         if n <= 1 {
             return leaf;
         }
-        let centroid_bounds = Aabb::from_points(refs.iter().map(|&r| self.centroids[r as usize]));
+        // A node of few primitives gains nothing from more bins than it has
+        // primitives, and the sweeps over bins are most of its build time.
+        let bins = self.bins.min(n.max(4));
         let split = if depth < SAH_DEPTH_LIMIT {
-            self.best_split(refs, &bounds, &centroid_bounds)
+            self.best_split(refs, bins, &bounds, &centroids)
         } else {
             None
         };
         let leaf_cost = self.c_isect * n as f32;
-        let (axis, mid, left, right) = match split {
-            Some(s) if n > self.max_leaf || s.cost < leaf_cost => {
-                let scale = self.bin_scale(&centroid_bounds, s.axis);
-                let min = centroid_bounds.min[s.axis];
-                let mid = partition(refs, |r| {
-                    self.bin_of(self.centroids[r as usize][s.axis], min, scale) <= s.last_left
-                });
-                (s.axis, mid, s.left, s.right)
-            }
+        let division = match split {
+            Some(s) if n > self.max_leaf || s.cost < leaf_cost => partition(refs, bins, &centroids, &s),
             _ if n <= self.max_leaf => return leaf,
-            _ => self.median_split(refs, &centroid_bounds),
+            _ => median_split(refs, &centroids),
         };
+        let mid = division.left_count;
+        let [(lb, lc), (rb, rc)] = division.children;
         let (l, r) = refs.split_at_mut(mid);
-        let mut build_left = || self.subtree(l, first, left, depth + 1);
-        let mut build_right = || self.subtree(r, first + mid as u32, right, depth + 1);
+        let mut build_left = || self.subtree(l, first, lb, lc, depth + 1);
+        let mut build_right = || self.subtree(r, first + mid as u32, rb, rc, depth + 1);
         let children = if n >= PARALLEL_MIN {
             let (a, b) = rayon::join(build_left, build_right);
             [a, b]
@@ -186,80 +265,49 @@ impl Context<'_> {
             [build_left(), build_right()]
         };
         Temp::Inner {
-            bounds,
-            axis: axis as u32,
+            bounds: bounds.to_aabb(),
+            axis: division.axis as u32,
             children: Box::new(children),
         }
     }
 
-    /// Bins per unit of centroid extent along `axis` (0 when the axis cannot be binned).
-    fn bin_scale(&self, centroid_bounds: &Aabb, axis: usize) -> f32 {
-        let extent = centroid_bounds.max[axis] - centroid_bounds.min[axis];
-        let scale = self.bins as f32 / extent;
-        if extent > 0.0 && scale.is_finite() {
-            scale
-        } else {
-            0.0
-        }
-    }
-
-    /// The bin of a centroid coordinate `c`.
-    #[inline(always)]
-    fn bin_of(&self, c: f32, min: f32, scale: f32) -> usize {
-        // `as usize` saturates (and maps NaN to 0); the top boundary falls in the last bin.
-        (((c - min) * scale) as usize).min(self.bins - 1)
-    }
-
     /// The cheapest SAH split over all axes and bin boundaries, if any separates the primitives.
-    fn best_split(&self, refs: &[u32], bounds: &Aabb, centroid_bounds: &Aabb) -> Option<Split> {
-        let scales = [0, 1, 2].map(|axis| self.bin_scale(centroid_bounds, axis));
-        if scales == [0.0; 3] {
+    fn best_split(&self, refs: &[PrimRef], n_bins: usize, bounds: &Box3, centroids: &Box3) -> Option<Split> {
+        let scale = bin_scales(n_bins, centroids);
+        if scale == Vec3A::ZERO {
             return None;
         }
         // Fill the bins of all three axes in one pass over the primitives.
-        let empty = Bin {
-            bounds: Aabb::EMPTY,
-            count: 0,
-        };
-        let mut bins = [[empty; MAX_BINS]; 3];
-        for &r in refs {
-            let (c, b) = (self.centroids[r as usize], self.boxes[r as usize]);
+        let mut bins = [[Bin::EMPTY; MAX_BINS]; 3];
+        for r in refs.iter() {
+            let k = bins_of(n_bins, r.centroid(), centroids.min, scale);
             for axis in 0..3 {
-                let bin = &mut bins[axis][self.bin_of(c[axis], centroid_bounds.min[axis], scales[axis])];
-                bin.bounds = bin.bounds.union(b);
+                let bin = &mut bins[axis][k[axis]];
+                bin.bounds = bin.bounds.union(&r.bounds);
                 bin.count += 1;
             }
         }
-        let inv_area = 1.0 / bounds.surface_area();
+        let inv_area = 1.0 / bounds.area();
         let mut best: Option<Split> = None;
         for (axis, bins) in bins.iter().enumerate() {
-            if scales[axis] == 0.0 {
+            if scale[axis] == 0.0 {
                 continue;
             }
-            let bins = &bins[..self.bins];
+            let bins = &bins[..n_bins];
             // Right-to-left sweep: the box and count of bins `i..`.
-            let mut right = [empty; MAX_BINS];
-            let mut acc = empty;
+            let mut right = [Bin::EMPTY; MAX_BINS];
             for i in (1..bins.len()).rev() {
-                acc = Bin {
-                    bounds: acc.bounds.union(bins[i].bounds),
-                    count: acc.count + bins[i].count,
-                };
-                right[i] = acc;
+                right[i] = bins[i].add(&right.get(i + 1).copied().unwrap_or(Bin::EMPTY));
             }
             // Left-to-right sweep, pricing the boundary after bin `i`.
-            let mut left = empty;
+            let mut left = Bin::EMPTY;
             for i in 0..bins.len() - 1 {
-                left = Bin {
-                    bounds: left.bounds.union(bins[i].bounds),
-                    count: left.count + bins[i].count,
-                };
+                left = left.add(&bins[i]);
                 let r = right[i + 1];
                 if left.count == 0 || r.count == 0 {
                     continue;
                 }
-                let weighted =
-                    left.count as f32 * left.bounds.surface_area() + r.count as f32 * r.bounds.surface_area();
+                let weighted = left.count as f32 * left.bounds.area() + r.count as f32 * r.bounds.area();
                 let cost = self.c_trav + self.c_isect * weighted * inv_area;
                 // `<` is false for NaN costs (infinite areas): such splits are never chosen.
                 if best.as_ref().is_none_or(|b| cost < b.cost) {
@@ -267,50 +315,82 @@ impl Context<'_> {
                         axis,
                         last_left: i,
                         cost,
-                        left: left.bounds,
-                        right: r.bounds,
                     });
                 }
             }
         }
         best.filter(|b| b.cost.is_finite())
     }
-
-    /// Split at the median centroid of the widest centroid axis; returns
-    /// `(axis, left count, left box, right box)`.
-    fn median_split(&self, refs: &mut [u32], centroid_bounds: &Aabb) -> (usize, usize, Aabb, Aabb) {
-        let e = centroid_bounds.extent();
-        let axis = if e.x >= e.y && e.x >= e.z {
-            0
-        } else if e.y >= e.z {
-            1
-        } else {
-            2
-        };
-        let mid = refs.len() / 2;
-        refs.select_nth_unstable_by(mid, |&a, &b| {
-            self.centroids[a as usize][axis].total_cmp(&self.centroids[b as usize][axis])
-        });
-        let union = |rs: &[u32]| {
-            rs.iter()
-                .fold(Aabb::EMPTY, |acc, &r| acc.union(self.boxes[r as usize]))
-        };
-        (axis, mid, union(&refs[..mid]), union(&refs[mid..]))
-    }
 }
 
-/// Reorder `refs` so the elements where `goes_left` holds come first; returns their count.
-fn partition(refs: &mut [u32], goes_left: impl Fn(u32) -> bool) -> usize {
+/// Reorder `refs` so the primitives left of split `s` come first, measuring
+/// both sides' boxes and centroid boxes on the way.
+fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> Division {
+    let scale = bin_scales(bins, centroids);
+    let goes_left = |c: Vec3A| bins_of(bins, c, centroids.min, scale)[s.axis] <= s.last_left;
+    let mut sides = [(Box3::EMPTY, Box3::EMPTY); 2];
     let (mut i, mut j) = (0, refs.len());
     while i < j {
-        if goes_left(refs[i]) {
+        let c = refs[i].centroid();
+        let side = usize::from(!goes_left(c));
+        sides[side] = (sides[side].0.union(&refs[i].bounds), sides[side].1.grow(c));
+        if side == 0 {
             i += 1;
         } else {
             j -= 1;
             refs.swap(i, j);
         }
     }
-    i
+    Division {
+        axis: s.axis,
+        left_count: i,
+        children: sides,
+    }
+}
+
+/// Per axis, bins per unit of centroid extent (0 where the axis cannot be binned).
+fn bin_scales(bins: usize, centroids: &Box3) -> Vec3A {
+    let extent = centroids.max - centroids.min;
+    let scale = Vec3A::splat(bins as f32) / extent;
+    Vec3A::select(
+        extent.cmpgt(Vec3A::ZERO) & scale.is_finite_mask(),
+        scale,
+        Vec3A::ZERO,
+    )
+}
+
+/// The bin of every axis for centroid `c`.
+#[inline(always)]
+fn bins_of(bins: usize, c: Vec3A, min: Vec3A, scale: Vec3A) -> [usize; 3] {
+    // Clamp in floating point (the top boundary falls in the last bin), then a
+    // plain truncation: much cheaper than saturating `f32 as usize` conversions.
+    let k = ((c - min) * scale).clamp(Vec3A::ZERO, Vec3A::splat((bins - 1) as f32));
+    let k = k.as_ivec3();
+    [k.x as usize, k.y as usize, k.z as usize]
+}
+
+/// Split at the median centroid of the widest centroid axis.
+fn median_split(refs: &mut [PrimRef], centroids: &Box3) -> Division {
+    let e = centroids.max - centroids.min;
+    let axis = if e.x >= e.y && e.x >= e.z {
+        0
+    } else if e.y >= e.z {
+        1
+    } else {
+        2
+    };
+    let mid = refs.len() / 2;
+    refs.select_nth_unstable_by(mid, |a, b| a.centroid()[axis].total_cmp(&b.centroid()[axis]));
+    let side = |rs: &[PrimRef]| {
+        rs.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, c), r| {
+            (b.union(&r.bounds), c.grow(r.centroid()))
+        })
+    };
+    Division {
+        axis,
+        left_count: mid,
+        children: [side(&refs[..mid]), side(&refs[mid..])],
+    }
 }
 
 #[cfg(test)]
@@ -318,14 +398,37 @@ mod tests {
     use super::*;
 
     #[test]
-    fn partition_splits_by_predicate() {
-        let mut v: Vec<u32> = (0..100).collect();
-        let k = partition(&mut v, |x| x % 3 == 0);
-        assert_eq!(k, 34);
-        assert!(v[..k].iter().all(|x| x % 3 == 0));
-        assert!(v[k..].iter().all(|x| x % 3 != 0));
-        let mut sorted = v.clone();
-        sorted.sort();
-        assert_eq!(sorted, (0..100).collect::<Vec<_>>());
+    fn partition_follows_the_split_and_measures_both_sides() {
+        let refs: Vec<PrimRef> = (0..100)
+            .map(|i| {
+                let p = Vec3A::new(i as f32, (i % 7) as f32, 0.0);
+                PrimRef {
+                    bounds: Box3::new(p, p + Vec3A::ONE),
+                    id: i,
+                }
+            })
+            .collect();
+        let centroids = refs.iter().fold(Box3::EMPTY, |a, r| a.grow(r.centroid()));
+        let mut sorted = refs.clone();
+        let d = partition(
+            &mut sorted,
+            10,
+            &centroids,
+            &Split {
+                axis: 0,
+                last_left: 2,
+                cost: 0.0,
+            },
+        );
+        // Centroids x = 0.5..99.5 in 10 bins of 9.9: bins 0..=2 hold x < 30.2, ids 0..=29.
+        assert_eq!(d.left_count, 30);
+        assert!(sorted[..30].iter().all(|r| r.id < 30));
+        assert!(sorted[30..].iter().all(|r| r.id >= 30));
+        assert_eq!(d.children[0].0.max.x, 30.0);
+        assert_eq!(d.children[1].0.min.x, 30.0);
+        assert_eq!(d.children[1].1.max.x, 99.5);
+        let mut ids: Vec<u32> = sorted.iter().map(|r| r.id).collect();
+        ids.sort();
+        assert_eq!(ids, (0..100).collect::<Vec<_>>());
     }
 }
