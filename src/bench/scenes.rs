@@ -180,14 +180,17 @@ pub fn bumpy_sphere(n: usize, seed: u64) -> Vec<Primitive> {
     prims
 }
 
-/// A camera at `width × height` looking at the box from the +z side, framing it
-/// with a 40° field of view (square pixels).
+/// A camera at `width × height` looking at the box from the +z side, framing its
+/// bounding sphere with a vertical field of view of at most 40° (square pixels).
+/// The lecture's primary rays start on the image plane, one unit in front of the
+/// eye, so the eye stands at least `1 + 2·radius` away and the field of view
+/// narrows to fit small scenes.
 pub fn framing_camera(bounds: Aabb, width: u32, height: u32) -> Camera {
     let center = bounds.center();
-    let radius = 0.5 * bounds.extent().length();
-    let fovy = 40.0f32;
+    let radius = (0.5 * bounds.extent().length()).max(1e-3);
+    let distance = (radius / 20f32.to_radians().sin()).max(1.0 + 2.0 * radius);
+    let fovy = 2.0 * (radius / distance).asin().to_degrees();
     let fovx = 2.0 * ((fovy.to_radians() * 0.5).tan() * width as f32 / height as f32).atan();
-    let distance = radius / (fovy.to_radians() * 0.5).sin();
     Camera::new(
         center + Vec3::new(0.0, 0.0, distance),
         center,
@@ -225,5 +228,31 @@ mod tests {
             mesh.iter().all(|p| p.bounds().is_some()),
             "no degenerate triangles"
         );
+    }
+
+    #[test]
+    fn framing_camera_sees_small_and_large_scenes() {
+        use crate::accel::{Accel, BruteForce};
+        for scale in [0.01f32, 1.0, 100.0] {
+            let prims: Vec<Primitive> = random_spheres(50, 3)
+                .iter()
+                .map(|p| match p {
+                    Primitive::Sphere(s) => {
+                        Primitive::Sphere(Sphere::new(scale * s.center, scale * s.radius))
+                    }
+                    _ => unreachable!("only spheres"),
+                })
+                .collect();
+            let bounds = prims
+                .iter()
+                .filter_map(Primitive::bounds)
+                .fold(Aabb::EMPTY, Aabb::union);
+            let camera = framing_camera(bounds, 32, 32);
+            let brute = BruteForce::new(&prims);
+            let hits = (0..32 * 32)
+                .filter(|k| brute.intersect(&camera.pixel_ray(k % 32, k / 32)).is_hit())
+                .count();
+            assert!(hits > 32 * 32 / 10, "scale {scale}: {hits} hits");
+        }
     }
 }

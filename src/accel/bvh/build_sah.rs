@@ -29,7 +29,9 @@ pub struct BuildOptions {
     pub bins: usize,
     /// Largest leaf the SAH may choose; larger nodes are always split.
     pub max_leaf_size: usize,
-    /// SAH cost of visiting a node, relative to…
+    /// SAH cost of visiting a node, relative to… (2 by default: measured on the
+    /// dragon and a 10⁶-triangle mesh, it makes leaves of about 3 triangles,
+    /// which packets traverse faster than the 2-triangle leaves of 1 do)
     pub traversal_cost: f32,
     /// …the cost of one ray-primitive test.
     pub intersection_cost: f32,
@@ -40,7 +42,7 @@ impl Default for BuildOptions {
         Self {
             bins: 16,
             max_leaf_size: 8,
-            traversal_cost: 1.0,
+            traversal_cost: 2.0,
             intersection_cost: 1.0,
         }
     }
