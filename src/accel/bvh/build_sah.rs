@@ -331,17 +331,37 @@ fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> 
     let scale = bin_scales(bins, centroids);
     let goes_left = |c: Vec3A| bins_of(bins, c, centroids.min, scale)[s.axis] <= s.last_left;
     let mut sides = [(Box3::EMPTY, Box3::EMPTY); 2];
+    let mut add = |side: usize, r: &PrimRef, c: Vec3A| {
+        sides[side] = (sides[side].0.union(&r.bounds), sides[side].1.grow(c));
+    };
+    // Hoare's scheme: walk in from both ends and swap only misplaced pairs.
     let (mut i, mut j) = (0, refs.len());
-    while i < j {
-        let c = refs[i].centroid();
-        let side = usize::from(!goes_left(c));
-        sides[side] = (sides[side].0.union(&refs[i].bounds), sides[side].1.grow(c));
-        if side == 0 {
+    loop {
+        while i < j {
+            let c = refs[i].centroid();
+            if !goes_left(c) {
+                break;
+            }
+            add(0, &refs[i], c);
             i += 1;
-        } else {
-            j -= 1;
-            refs.swap(i, j);
         }
+        while i < j {
+            let c = refs[j - 1].centroid();
+            if goes_left(c) {
+                break;
+            }
+            add(1, &refs[j - 1], c);
+            j -= 1;
+        }
+        if i == j {
+            break;
+        }
+        // refs[i] belongs right and refs[j − 1] left, so they are two elements.
+        add(1, &refs[i], refs[i].centroid());
+        add(0, &refs[j - 1], refs[j - 1].centroid());
+        refs.swap(i, j - 1);
+        i += 1;
+        j -= 1;
     }
     Division {
         axis: s.axis,

@@ -129,11 +129,6 @@ impl Bvh {
         &self.pairs[pair as usize]
     }
 
-    /// The bounded primitives in leaf order, with their input indices.
-    pub fn primitives(&self) -> (&[Primitive], &[u32]) {
-        (&self.prims, &self.prim_ids)
-    }
-
     /// The (padded) box of the whole tree; empty when no primitive is bounded.
     pub fn bounds(&self) -> Aabb {
         if self.prims.is_empty() {
