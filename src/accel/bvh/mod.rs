@@ -9,6 +9,26 @@
 //! primitive's index in the input slice, so a BVH and [`BruteForce`] give the
 //! same records.
 //!
+//! ```
+//! use raypack::accel::{Accel, AccelWithStats, BruteForce, Bvh, TraversalStats};
+//! use raypack::bench::scenes::random_spheres;
+//! use raypack::packet::RayPacket8;
+//! use raypack::ray::Ray;
+//! use glam::Vec3;
+//!
+//! let prims = random_spheres(1000, 1);
+//! let bvh = Bvh::new(&prims);
+//! let ray = Ray::unbounded(Vec3::new(0.0, 0.0, -5.0), Vec3::Z);
+//! let hit = bvh.intersect(&ray);
+//! assert_eq!(hit, BruteForce::new(&prims).intersect(&ray));
+//!
+//! // Eight rays at once, with the cost counted.
+//! let mut stats = TraversalStats::default();
+//! let hits = bvh.intersect_packet_with_stats(&RayPacket8::from_rays(&[ray; 8]), &mut stats);
+//! assert_eq!(hits.hit(7), hit);
+//! println!("{}", stats.caption()); // e.g. "9.0 nodes/ray, 1.0 prims/ray, lanes 100%"
+//! ```
+//!
 //! [`BruteForce`]: crate::accel::BruteForce
 
 pub mod build_sah;
