@@ -1,7 +1,10 @@
-//! A bounding volume hierarchy over a scene's bounded primitives: binary, built
-//! with binned SAH ([`build_sah`]), traversed by single rays
-//! ([`traverse_single`]), by packets ([`traverse_packet`]) and by shadow rays
-//! ([`occlusion`]). Leaves call the primitives' own kernels.
+//! A bounding volume hierarchy over a scene's bounded primitives, built as a
+//! binary tree with binned SAH ([`build_sah`]) and kept in two node layouts over
+//! the same leaves: binary nodes ([`node`]) that 8-ray packets traverse
+//! ([`traverse_packet`]), and the tree collapsed to 4-wide nodes ([`wide`]) that
+//! single rays traverse with one SIMD test per four boxes ([`traverse_single`]
+//! holds the queries); shadow rays use either ([`occlusion`]). Leaves call the
+//! primitives' own kernels.
 //!
 //! Primitives without a finite box (infinite planes, and anything whose box
 //! overflows) are kept outside the tree and tested directly by every ray;
@@ -37,6 +40,7 @@ pub mod occlusion;
 pub mod ray_box;
 pub mod traverse_packet;
 pub mod traverse_single;
+pub mod wide;
 
 use rayon::prelude::*;
 
@@ -55,11 +59,14 @@ use node::{Node, NodeId, NodePair, ROOT};
 /// ([`build_sah::SAH_DEPTH_LIMIT`] levels of SAH splits, then at most 32 of median splits).
 pub const STACK_SIZE: usize = build_sah::SAH_DEPTH_LIMIT + 40;
 
-/// A binary BVH owning a reordered copy of the primitives it holds.
+/// A BVH (binary nodes for packets, 4-wide nodes for single rays) owning a
+/// reordered copy of the primitives it holds.
 #[derive(Clone, Debug)]
 pub struct Bvh {
     /// Node pairs; the root is node [`ROOT`] (pair 0, side 0).
     pairs: Vec<NodePair>,
+    /// The same tree collapsed to 4-wide nodes, for single rays.
+    wide: Vec<wide::WideNode>,
     /// Bounded primitives in leaf order (a leaf is a contiguous run).
     prims: Vec<Primitive>,
     /// Input index of each of `prims`.
@@ -127,14 +134,17 @@ impl Bvh {
         };
         let prim_ids: Vec<u32> = order.iter().map(|&k| bounded_ids[k as usize]).collect();
         let prims = prim_ids.par_iter().map(|&i| prims[i as usize].clone()).collect();
-        Self {
+        let mut bvh = Self {
             pairs,
+            wide: Vec::new(),
             prims,
             prim_ids,
             unbounded,
             unbounded_ids,
             skipped,
-        }
+        };
+        bvh.wide = wide::collapse(&bvh);
+        bvh
     }
 
     /// The node `id`.
@@ -170,6 +180,7 @@ impl Bvh {
             max_leaf_size: 0,
             sah_cost: 0.0,
             bytes: self.pairs.len() * size_of::<NodePair>()
+                + self.wide.len() * size_of::<wide::WideNode>()
                 + self.prims.len() * (size_of::<Primitive>() + size_of::<u32>()),
         };
         if self.prims.is_empty() {

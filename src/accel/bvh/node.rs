@@ -37,7 +37,7 @@ pub struct Node {
     pub first: u32,
     /// Upper corner of the (padded) box.
     pub max: Vec3,
-    /// Leaf: primitive count. Inner: [`INNER`] | split axis.
+    /// Leaf: primitive count. Inner: bit 31 set, split axis in the low two bits.
     pub meta: u32,
 }
 

@@ -4,10 +4,13 @@
 //! the first primitive it hits anywhere in `[t_min, t_max]`.
 
 use crate::accel::bvh::Bvh;
-use crate::accel::bvh::node::{Node, NodeId, ROOT};
+use std::ops::Range;
+
+use crate::accel::bvh::node::{Node, NodeId};
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_packet::{PacketQuery, traverse_packet};
 use crate::accel::bvh::traverse_single::{RayQuery, traverse};
+use crate::accel::bvh::wide::traverse_wide;
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
 use crate::packet::{HitPacket, RayPacket};
@@ -28,8 +31,8 @@ impl RayQuery for AnyHit<'_> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: &Node, stats: &mut S) -> bool {
-        leaf.prims().any(|i| {
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool {
+        prims.into_iter().any(|i| {
             stats.prim();
             bvh.prims[i].intersect(self.ray, bvh.prim_ids[i], &mut self.hit)
         })
@@ -53,8 +56,7 @@ pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
     if bvh.prims.is_empty() {
         return false;
     }
-    let slab = SlabRay::new(ray);
-    slab.node_entry(bvh.node(ROOT), ray.t_max).is_some() && traverse(bvh, ROOT, &slab, &mut query, stats)
+    traverse_wide(bvh, &SlabRay::new(ray), &mut query, stats)
 }
 
 /// The any-hit query of a packet: occluded lanes leave the packet.

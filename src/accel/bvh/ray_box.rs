@@ -60,7 +60,7 @@ fn fast_max(a: f32, b: f32) -> f32 {
 pub struct SlabRay {
     /// Origin.
     pub origin: Vec3,
-    /// Reciprocal direction (see [`safe_inverse`]).
+    /// Reciprocal direction; zero and subnormal components give `+∞`.
     pub inv_dir: Vec3,
     /// Smallest accepted t.
     pub t_min: f32,
@@ -98,6 +98,12 @@ impl SlabRay {
         (t_near <= t_far * FAR_SCALE).then_some(t_near)
     }
 
+    /// 0 when the ray enters boxes through their `min` plane along `axis`, 1 through `max`.
+    #[inline(always)]
+    pub fn entry_corner(&self, axis: usize) -> usize {
+        self.entry_corner[axis]
+    }
+
     /// [`SlabRay::entry`] of a node's box.
     #[inline(always)]
     pub fn node_entry(&self, node: &Node, t_max: f32) -> Option<f32> {
@@ -110,7 +116,7 @@ impl SlabRay {
 pub struct SlabPacket<F: SimdFloat> {
     /// Origins.
     pub origin: V3<F>,
-    /// Reciprocal directions (see [`safe_inverse`]).
+    /// Reciprocal directions; zero and subnormal components give `+∞`.
     pub inv_dir: V3<F>,
     /// Smallest accepted t per lane.
     pub t_min: F,

@@ -1,9 +1,14 @@
-//! Single-ray traversal: depth first, nearer child first, culling by the current
-//! hit's t. One loop serves nearest-hit and any-hit queries ([`RayQuery`]); it is
-//! also how packet traversal finishes lanes that are left alone.
+//! Single-ray traversal of the binary tree: depth first, nearer child first,
+//! culling by the current hit's t. One loop serves nearest-hit and any-hit
+//! queries ([`RayQuery`]); packet traversal finishes the lanes it leaves alone
+//! with it. Rays traced on their own start in the 4-wide view instead
+//! ([`wide::traverse_wide`](super::wide::traverse_wide)), with the same queries.
 
-use crate::accel::bvh::node::{Node, NodeId, ROOT};
+use std::ops::Range;
+
+use crate::accel::bvh::node::NodeId;
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
+use crate::accel::bvh::wide::traverse_wide;
 use crate::accel::bvh::{Bvh, STACK_SIZE};
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
@@ -14,8 +19,8 @@ pub trait RayQuery {
     /// The largest t still of interest (the current hit's t for nearest-hit queries).
     fn t_max(&self) -> f32;
 
-    /// Test the primitives of `leaf`; true ends the traversal.
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: &Node, stats: &mut S) -> bool;
+    /// Test the leaf primitives `prims`; true ends the traversal.
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool;
 }
 
 /// Traverse the subtree under `start` (whose box the ray is known to meet);
@@ -36,7 +41,7 @@ pub fn traverse<Q: RayQuery, S: Counter>(
         let node = bvh.node(id);
         stats.node();
         if node.is_leaf() {
-            if query.leaf(bvh, node, stats) {
+            if query.leaf(bvh, node.prims(), stats) {
                 return true;
             }
         } else {
@@ -94,8 +99,8 @@ impl RayQuery for Nearest<'_> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: &Node, stats: &mut S) -> bool {
-        for i in leaf.prims() {
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool {
+        for i in prims {
             stats.prim();
             bvh.prims[i].intersect(self.ray, bvh.prim_ids[i], self.hit);
         }
@@ -116,8 +121,6 @@ pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
         return hit;
     }
     let slab = SlabRay::new(ray);
-    if slab.node_entry(bvh.node(ROOT), hit.t).is_some() {
-        traverse(bvh, ROOT, &slab, &mut Nearest { ray, hit: &mut hit }, stats);
-    }
+    traverse_wide(bvh, &slab, &mut Nearest { ray, hit: &mut hit }, stats);
     hit
 }
