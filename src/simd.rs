@@ -72,6 +72,13 @@ pub trait SimdFloat:
     fn min(self, rhs: Self) -> Self;
     /// Lane-wise maximum.
     fn max(self, rhs: Self) -> Self;
+    /// Lane-wise minimum in one instruction (x86 `minps`): where either lane is
+    /// NaN the result is the lane of `rhs`, so `candidate.fast_min(acc)` ignores
+    /// a NaN candidate. The BVH's slab test relies on this.
+    fn fast_min(self, rhs: Self) -> Self;
+    /// Lane-wise maximum in one instruction (x86 `maxps`): where either lane is
+    /// NaN the result is the lane of `rhs`.
+    fn fast_max(self, rhs: Self) -> Self;
     /// The mask with every lane set.
     fn all_true() -> Self;
     /// The mask with lane `i` set where bit `i` of `bits` is.
@@ -176,6 +183,14 @@ macro_rules! impl_simd_float {
             #[inline(always)]
             fn max(self, rhs: Self) -> Self {
                 $f::max(self, rhs)
+            }
+            #[inline(always)]
+            fn fast_min(self, rhs: Self) -> Self {
+                $f::fast_min(self, rhs)
+            }
+            #[inline(always)]
+            fn fast_max(self, rhs: Self) -> Self {
+                $f::fast_max(self, rhs)
             }
             #[inline(always)]
             fn all_true() -> Self {
@@ -374,6 +389,25 @@ mod tests {
         // Unsigned order: u32::MAX (no primitive) is larger than every index.
         assert!(F::U32::splat(3).lt(F::U32::splat(u32::MAX)).any());
         assert!(F::U32::splat(u32::MAX).lt(F::U32::splat(3)).none());
+    }
+
+    fn check_fast_min_max<F: SimdFloat>() {
+        let nan = F::splat(f32::NAN);
+        let (one, two) = (F::splat(1.0), F::splat(2.0));
+        assert_eq!(one.fast_min(two).to_array().as_ref()[0], 1.0);
+        assert_eq!(two.fast_max(one).to_array().as_ref()[0], 2.0);
+        // A NaN on either side yields the right-hand lane.
+        assert_eq!(nan.fast_min(one).to_array().as_ref()[0], 1.0);
+        assert_eq!(nan.fast_max(one).to_array().as_ref()[0], 1.0);
+        assert!(one.fast_min(nan).to_array().as_ref()[0].is_nan());
+        assert!(one.fast_max(nan).to_array().as_ref()[0].is_nan());
+    }
+
+    #[test]
+    fn fast_min_max_return_rhs_on_nan_at_every_width() {
+        check_fast_min_max::<f32x4>();
+        check_fast_min_max::<f32x8>();
+        check_fast_min_max::<f32x16>();
     }
 
     #[test]

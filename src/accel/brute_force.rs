@@ -1,6 +1,7 @@
 //! The lecture's ray casting loop: every ray against every primitive, nearest wins.
 
 use crate::accel::Accel;
+use crate::accel::stats::{AccelWithStats, Counter, NoStats, TraversalStats};
 use crate::geometry::{Intersect, Primitive};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -17,44 +18,98 @@ impl<'a> BruteForce<'a> {
     pub fn new(prims: &'a [Primitive]) -> Self {
         Self { prims }
     }
-}
 
-impl Accel for BruteForce<'_> {
-    fn intersect(&self, ray: &Ray) -> Hit {
+    /// Nearest hit, every primitive tested.
+    #[inline]
+    fn nearest<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
+        stats.rays(1);
         let mut hit = Hit::none(ray);
         for (i, p) in self.prims.iter().enumerate() {
+            stats.prim();
             p.intersect(ray, i as u32, &mut hit);
         }
         hit
     }
 
-    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
+    /// Nearest hits of a packet, every primitive tested.
+    #[inline]
+    fn nearest_packet<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> HitPacket<F> {
+        stats.rays(u64::from(rays.active.bitmask().count_ones()));
+        stats.packet();
         let mut hits = HitPacket::none(rays);
         for (i, p) in self.prims.iter().enumerate() {
+            stats.packet_prim(rays.active);
             p.intersect_packet(rays, i as u32, &mut hits);
         }
         hits
     }
 
-    fn occluded(&self, ray: &Ray) -> bool {
+    /// Any hit: stops at the first primitive hit.
+    #[inline]
+    fn any<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
+        stats.rays(1);
         let mut hit = Hit::none(ray);
-        self.prims
-            .iter()
-            .enumerate()
-            .any(|(i, p)| p.intersect(ray, i as u32, &mut hit))
+        self.prims.iter().enumerate().any(|(i, p)| {
+            stats.prim();
+            p.intersect(ray, i as u32, &mut hit)
+        })
     }
 
-    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
-        // Occluded lanes drop out of the packet; stop once none is left.
+    /// Any hit per lane: occluded lanes drop out of the packet; stops once none is left.
+    #[inline]
+    fn any_packet<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
+        stats.rays(u64::from(rays.active.bitmask().count_ones()));
+        stats.packet();
         let mut pending = *rays;
         let mut hits = HitPacket::none(rays);
         for (i, p) in self.prims.iter().enumerate() {
-            p.intersect_packet(&pending, i as u32, &mut hits);
-            pending.active = pending.active.and_not(hits.hit_mask());
             if pending.active.none() {
                 break;
             }
+            stats.packet_prim(pending.active);
+            p.intersect_packet(&pending, i as u32, &mut hits);
+            pending.active = pending.active.and_not(hits.hit_mask());
         }
         rays.active & hits.hit_mask()
+    }
+}
+
+impl Accel for BruteForce<'_> {
+    fn intersect(&self, ray: &Ray) -> Hit {
+        self.nearest(ray, &mut NoStats)
+    }
+
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
+        self.nearest_packet(rays, &mut NoStats)
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.any(ray, &mut NoStats)
+    }
+
+    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
+        self.any_packet(rays, &mut NoStats)
+    }
+}
+
+impl AccelWithStats for BruteForce<'_> {
+    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit {
+        self.nearest(ray, stats)
+    }
+
+    fn intersect_packet_with_stats<F: SimdFloat>(
+        &self,
+        rays: &RayPacket<F>,
+        stats: &mut TraversalStats,
+    ) -> HitPacket<F> {
+        self.nearest_packet(rays, stats)
+    }
+
+    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
+        self.any(ray, stats)
+    }
+
+    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F {
+        self.any_packet(rays, stats)
     }
 }

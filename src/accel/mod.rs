@@ -2,11 +2,19 @@
 //! any hit (occlusion), for single rays and for packets.
 //!
 //! [`BruteForce`] is the lecture's loop (every ray against every object) and the
-//! reference every other structure is checked against.
+//! reference every other structure is checked against; [`Bvh`] is the SAH
+//! bounding volume hierarchy. [`AccelKind`] picks one (`--accel none|bvh`), and
+//! [`AccelWithStats`] runs the same queries counting their cost.
 
 pub mod brute_force;
+pub mod bvh;
+pub mod kind;
+pub mod stats;
 
 pub use brute_force::BruteForce;
+pub use bvh::Bvh;
+pub use kind::{AccelKind, AnyAccel};
+pub use stats::{AccelWithStats, TraversalStats};
 
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};

@@ -2,3 +2,5 @@
 
 pub mod kernels;
 pub mod scene;
+pub mod scenes;
+pub mod traversal;

@@ -7,6 +7,7 @@
 
 use clap::Args;
 
+use crate::accel::AccelKind;
 use crate::cli::CliResult;
 use crate::compare::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Kernel};
 
@@ -32,6 +33,9 @@ pub struct CheckArgs {
     /// Ray sets.
     #[arg(long, value_enum, default_value_t = RayChoice::Both)]
     pub rays: RayChoice,
+    /// raypack's acceleration structure (brute force is the reference).
+    #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
+    pub accel: AccelKind,
     /// Number of random rays.
     #[arg(long, default_value_t = 100_000)]
     pub n: usize,
@@ -94,7 +98,7 @@ mod with_embree {
     use anyhow::anyhow;
 
     use super::{CheckArgs, RayChoice};
-    use crate::accel::{Accel, BruteForce};
+    use crate::accel::Accel;
     use crate::cli::scene_arg::load_scene;
     use crate::cli::{CliError, CliResult};
     use crate::compare::{
@@ -131,7 +135,7 @@ mod with_embree {
         rayon::broadcast(|_| flush_denormals());
         let scene = load_scene(&args.scene)?;
         let embree = embree_scene(&scene, &args.embree_config, args.embree_mode)?;
-        let raypack = BruteForce::new(&scene.primitives);
+        let raypack = args.accel.build(&scene.primitives);
         let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
         let (width, height) = args.size.unwrap_or((spec.width, spec.height));
         let camera = spec

@@ -30,7 +30,7 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub threads: Option<u16>,
     /// Acceleration structure.
-    #[arg(long, value_enum, default_value_t = AccelKind::None)]
+    #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
     pub accel: AccelKind,
 }
 

@@ -8,7 +8,7 @@ use std::time::Instant;
 use anyhow::anyhow;
 use clap::Args;
 
-use crate::accel::BruteForce;
+use crate::accel::AccelKind;
 use crate::cli::scene_arg::load_scene;
 use crate::cli::{CliError, CliResult};
 use crate::compare::csv::{format_hits, read_rays, write_atomically};
@@ -27,9 +27,12 @@ pub struct TraceArgs {
     /// Hits: CSV with header `t,prim` (`inf,-1` on a miss), written whole or not at all.
     #[arg(long)]
     pub out: PathBuf,
-    /// Engine that traces (raypack uses brute force until the BVH lands).
+    /// Engine that traces.
     #[arg(long, value_enum, default_value_t = Engine::Raypack)]
     pub engine: Engine,
+    /// raypack's acceleration structure (brute force is the reference).
+    #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
+    pub accel: AccelKind,
     /// Single rays or 8-wide packets (Embree: rtcIntersect1 or rtcIntersect8).
     #[arg(long, value_enum, default_value_t = Kernel::Packet8)]
     pub kernel: Kernel,
@@ -47,7 +50,7 @@ pub fn run(args: TraceArgs) -> CliResult {
     let rays = read_rays(&args.rays).map_err(|e| CliError::BadInput(e.into()))?;
     let start = Instant::now();
     let hits = match args.engine {
-        Engine::Raypack => trace_rays(&BruteForce::new(&scene.primitives), &rays, args.kernel),
+        Engine::Raypack => trace_rays(&args.accel.build(&scene.primitives), &rays, args.kernel),
         Engine::Embree => embree_hits(&scene, &rays, &args)?,
     };
     let seconds = start.elapsed().as_secs_f64();

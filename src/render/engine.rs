@@ -6,25 +6,9 @@
 
 use std::time::Instant;
 
-use crate::accel::{Accel, BruteForce};
+pub use crate::accel::AccelKind;
+use crate::accel::{Accel, BruteForce, Bvh};
 use crate::scene::Scene;
-
-/// Acceleration structures selectable with `--accel`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum AccelKind {
-    /// No structure: every ray against every primitive ([`BruteForce`]).
-    None,
-}
-
-impl AccelKind {
-    /// Name in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            AccelKind::None => "none",
-        }
-    }
-}
 
 /// Code to run with an acceleration structure of any type.
 pub trait WithAccel {
@@ -40,6 +24,10 @@ pub fn with_accel<J: WithAccel>(scene: &Scene, kind: AccelKind, job: J) -> J::Ou
     match kind {
         AccelKind::None => {
             let accel = BruteForce::new(&scene.primitives);
+            job.run(&accel, start.elapsed().as_secs_f64())
+        }
+        AccelKind::Bvh => {
+            let accel = Bvh::new(&scene.primitives);
             job.run(&accel, start.elapsed().as_secs_f64())
         }
     }

@@ -1,0 +1,133 @@
+//! Any-hit traversal for shadow rays, single and packet: the traversal loops of
+//! [`traverse_single`](super::traverse_single) and
+//! [`traverse_packet`](super::traverse_packet) with a query that stops a ray at
+//! the first primitive it hits anywhere in `[t_min, t_max]`.
+
+use crate::accel::bvh::Bvh;
+use std::ops::Range;
+
+use crate::accel::bvh::node::{Node, NodeId};
+use crate::accel::bvh::ray_box::SlabRay;
+use crate::accel::bvh::traverse_packet::{PacketQuery, traverse_packet};
+use crate::accel::bvh::traverse_single::{RayQuery, traverse};
+use crate::accel::bvh::wide::traverse_wide;
+use crate::accel::stats::Counter;
+use crate::geometry::Intersect;
+use crate::packet::{HitPacket, RayPacket};
+use crate::ray::{Hit, Ray};
+use crate::simd::SimdFloat;
+
+/// The any-hit query of one ray.
+struct AnyHit<'a> {
+    ray: &'a Ray,
+    /// A scratch record (kernels need one); its t stays `t_max` until the end.
+    hit: Hit,
+}
+
+impl RayQuery for AnyHit<'_> {
+    #[inline(always)]
+    fn t_max(&self) -> f32 {
+        self.ray.t_max
+    }
+
+    #[inline(always)]
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool {
+        prims.into_iter().any(|i| {
+            stats.prim();
+            bvh.prims[i].intersect(self.ray, bvh.prim_ids[i], &mut self.hit)
+        })
+    }
+}
+
+/// Whether anything lies on `ray` within `[t_min, t_max]`.
+#[inline]
+pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
+    stats.rays(1);
+    let mut query = AnyHit {
+        ray,
+        hit: Hit::none(ray),
+    };
+    for (p, &id) in bvh.unbounded.iter().zip(&bvh.unbounded_ids) {
+        stats.prim();
+        if p.intersect(ray, id, &mut query.hit) {
+            return true;
+        }
+    }
+    if bvh.prims.is_empty() {
+        return false;
+    }
+    traverse_wide(bvh, &SlabRay::new(ray), &mut query, stats)
+}
+
+/// The any-hit query of a packet: occluded lanes leave the packet.
+struct AnyHitPacket<F: SimdFloat> {
+    /// The rays, whose `active` mask is set to the lanes taking part at each leaf.
+    rays: RayPacket<F>,
+    /// Scratch records for the kernels.
+    hits: HitPacket<F>,
+    /// The lanes not yet found occluded.
+    pending: F,
+}
+
+impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
+    #[inline(always)]
+    fn t_max(&self) -> F {
+        self.rays.t_max
+    }
+
+    #[inline(always)]
+    fn live(&self) -> F {
+        self.pending
+    }
+
+    #[inline(always)]
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: &Node, mask: F, stats: &mut S) {
+        self.rays.active = mask & self.pending;
+        for i in leaf.prims() {
+            if self.rays.active.none() {
+                return;
+            }
+            stats.packet_prim(self.rays.active);
+            bvh.prims[i].intersect_packet(&self.rays, bvh.prim_ids[i], &mut self.hits);
+            let hit = self.hits.hit_mask();
+            self.pending = self.pending.and_not(hit);
+            self.rays.active = self.rays.active.and_not(hit);
+        }
+    }
+
+    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: NodeId, lane: usize, stats: &mut S) {
+        let ray = self.rays.ray(lane);
+        let mut query = AnyHit {
+            ray: &ray,
+            hit: Hit::none(&ray),
+        };
+        if traverse(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
+            self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+        }
+    }
+}
+
+/// The mask of active lanes of `rays` on which something lies within `[t_min, t_max]`.
+#[inline]
+pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> F {
+    stats.rays(u64::from(rays.active.bitmask().count_ones()));
+    stats.packet();
+    let mut query = AnyHitPacket {
+        rays: *rays,
+        hits: HitPacket::none(rays),
+        pending: rays.active,
+    };
+    for (p, &id) in bvh.unbounded.iter().zip(&bvh.unbounded_ids) {
+        if query.pending.none() {
+            break;
+        }
+        query.rays.active = query.pending;
+        stats.packet_prim(query.pending);
+        p.intersect_packet(&query.rays, id, &mut query.hits);
+        query.pending = query.pending.and_not(query.hits.hit_mask());
+    }
+    if query.pending.any() {
+        traverse_packet(bvh, rays, &mut query, stats);
+    }
+    rays.active.and_not(query.pending)
+}

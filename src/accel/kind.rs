@@ -1,0 +1,115 @@
+//! The choice of acceleration structure (`--accel none|bvh`) and a value holding
+//! either, so commands build whichever the user asked for and trace through one type.
+
+use std::fmt;
+
+use crate::accel::stats::{AccelWithStats, TraversalStats};
+use crate::accel::{Accel, BruteForce, Bvh};
+use crate::geometry::Primitive;
+use crate::packet::{HitPacket, RayPacket};
+use crate::ray::{Hit, Ray};
+use crate::simd::SimdFloat;
+
+/// Which acceleration structure to trace with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AccelKind {
+    /// No acceleration: every ray against every primitive (the reference).
+    None,
+    /// The SAH bounding volume hierarchy.
+    #[default]
+    Bvh,
+}
+
+impl AccelKind {
+    /// The name used on the command line and in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            AccelKind::None => "none",
+            AccelKind::Bvh => "bvh",
+        }
+    }
+
+    /// Build this structure over `prims` (a hit's index is the position in `prims`).
+    pub fn build(self, prims: &[Primitive]) -> AnyAccel<'_> {
+        match self {
+            AccelKind::None => AnyAccel::None(BruteForce::new(prims)),
+            AccelKind::Bvh => AnyAccel::Bvh(Bvh::new(prims)),
+        }
+    }
+}
+
+impl fmt::Display for AccelKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Either acceleration structure, built by [`AccelKind::build`].
+#[derive(Clone, Debug)]
+pub enum AnyAccel<'a> {
+    /// Brute force over the scene's primitives.
+    None(BruteForce<'a>),
+    /// A BVH.
+    Bvh(Bvh),
+}
+
+impl AnyAccel<'_> {
+    /// Which kind this is.
+    pub fn kind(&self) -> AccelKind {
+        match self {
+            AnyAccel::None(_) => AccelKind::None,
+            AnyAccel::Bvh(_) => AccelKind::Bvh,
+        }
+    }
+}
+
+/// Forward a query to whichever structure is inside.
+macro_rules! forward {
+    ($self:expr, $a:ident => $body:expr) => {
+        match $self {
+            AnyAccel::None($a) => $body,
+            AnyAccel::Bvh($a) => $body,
+        }
+    };
+}
+
+impl Accel for AnyAccel<'_> {
+    fn intersect(&self, ray: &Ray) -> Hit {
+        forward!(self, a => a.intersect(ray))
+    }
+
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
+        forward!(self, a => a.intersect_packet(rays))
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        forward!(self, a => a.occluded(ray))
+    }
+
+    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
+        forward!(self, a => a.occluded_packet(rays))
+    }
+}
+
+impl AccelWithStats for AnyAccel<'_> {
+    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit {
+        forward!(self, a => a.intersect_with_stats(ray, stats))
+    }
+
+    fn intersect_packet_with_stats<F: SimdFloat>(
+        &self,
+        rays: &RayPacket<F>,
+        stats: &mut TraversalStats,
+    ) -> HitPacket<F> {
+        forward!(self, a => a.intersect_packet_with_stats(rays, stats))
+    }
+
+    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
+        forward!(self, a => a.occluded_with_stats(ray, stats))
+    }
+
+    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F {
+        forward!(self, a => a.occluded_packet_with_stats(rays, stats))
+    }
+}

@@ -1,0 +1,237 @@
+//! Traversal statistics: what a ray query cost, counted without slowing the
+//! plain path.
+//!
+//! Traversal code is generic over a [`Counter`]. The plain [`Accel`] queries run
+//! with [`NoStats`], a zero-sized counter whose methods are empty and vanish
+//! after inlining; the `*_with_stats` queries of [`AccelWithStats`] run the same
+//! code with a [`TraversalStats`] the caller owns, so a renderer keeps one per
+//! tile (or per ray, for a heat map) and adds them up with [`TraversalStats::merge`].
+//! No atomics, no globals.
+
+use std::ops::AddAssign;
+
+use crate::accel::Accel;
+use crate::packet::{HitPacket, RayPacket};
+use crate::ray::{Hit, Ray};
+use crate::simd::SimdFloat;
+
+/// Receives the events of a traversal. Packet events take the mask of lanes
+/// taking part, so the popcount is only paid for when something counts.
+pub trait Counter {
+    /// `n` rays started (a packet counts its active lanes).
+    fn rays(&mut self, n: u64);
+    /// A packet was started.
+    fn packet(&mut self);
+    /// One ray visited one node.
+    fn node(&mut self);
+    /// One ray ran one primitive kernel.
+    fn prim(&mut self);
+    /// A packet visited one node with the lanes of `mask` taking part.
+    fn packet_node<F: SimdFloat>(&mut self, mask: F);
+    /// A packet ran one primitive kernel with the lanes of `mask` taking part.
+    fn packet_prim<F: SimdFloat>(&mut self, mask: F);
+    /// `n` lanes of a packet left it to finish as single rays.
+    fn fallback(&mut self, n: u64);
+}
+
+/// The counter that counts nothing (0 bytes): the plain queries use it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoStats;
+
+impl Counter for NoStats {
+    #[inline(always)]
+    fn rays(&mut self, _: u64) {}
+    #[inline(always)]
+    fn packet(&mut self) {}
+    #[inline(always)]
+    fn node(&mut self) {}
+    #[inline(always)]
+    fn prim(&mut self) {}
+    #[inline(always)]
+    fn packet_node<F: SimdFloat>(&mut self, _: F) {}
+    #[inline(always)]
+    fn packet_prim<F: SimdFloat>(&mut self, _: F) {}
+    #[inline(always)]
+    fn fallback(&mut self, _: u64) {}
+}
+
+/// What the ray queries of a tile, an image or one ray cost. 64 bytes.
+///
+/// Per-ray figures count a packet's work once per lane taking part, so that
+/// single-ray and packet traversal report comparable "nodes visited per ray";
+/// the SIMD counters say how full the packets' lanes were.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct TraversalStats {
+    /// Rays traced (a packet adds its active lanes).
+    pub rays: u64,
+    /// Packets traced.
+    pub packets: u64,
+    /// Node visits summed over rays (a packet's visit adds its lanes taking part).
+    pub nodes_visited: u64,
+    /// Ray-primitive tests summed over rays (a packet kernel call adds its lanes taking part).
+    pub prim_tests: u64,
+    /// SIMD steps made by packets: node visits plus packet kernel calls.
+    pub simd_steps: u64,
+    /// Lanes taking part, summed over SIMD steps.
+    pub simd_active_lanes: u64,
+    /// Lane slots, summed over SIMD steps (steps × packet width).
+    pub simd_lane_slots: u64,
+    /// Packet lanes finished by single-ray traversal once too few lanes stayed active.
+    pub fallback_rays: u64,
+}
+
+impl Counter for TraversalStats {
+    #[inline(always)]
+    fn rays(&mut self, n: u64) {
+        self.rays += n;
+    }
+    #[inline(always)]
+    fn packet(&mut self) {
+        self.packets += 1;
+    }
+    #[inline(always)]
+    fn node(&mut self) {
+        self.nodes_visited += 1;
+    }
+    #[inline(always)]
+    fn prim(&mut self) {
+        self.prim_tests += 1;
+    }
+    #[inline(always)]
+    fn packet_node<F: SimdFloat>(&mut self, mask: F) {
+        let lanes = u64::from(mask.bitmask().count_ones());
+        self.nodes_visited += lanes;
+        self.simd_step(lanes, F::LANES as u64);
+    }
+    #[inline(always)]
+    fn packet_prim<F: SimdFloat>(&mut self, mask: F) {
+        let lanes = u64::from(mask.bitmask().count_ones());
+        self.prim_tests += lanes;
+        self.simd_step(lanes, F::LANES as u64);
+    }
+    #[inline(always)]
+    fn fallback(&mut self, n: u64) {
+        self.fallback_rays += n;
+    }
+}
+
+impl TraversalStats {
+    #[inline(always)]
+    fn simd_step(&mut self, lanes: u64, width: u64) {
+        self.simd_steps += 1;
+        self.simd_active_lanes += lanes;
+        self.simd_lane_slots += width;
+    }
+
+    /// Add another tile's (or ray's) counts to these.
+    pub fn merge(&mut self, other: &TraversalStats) {
+        self.rays += other.rays;
+        self.packets += other.packets;
+        self.nodes_visited += other.nodes_visited;
+        self.prim_tests += other.prim_tests;
+        self.simd_steps += other.simd_steps;
+        self.simd_active_lanes += other.simd_active_lanes;
+        self.simd_lane_slots += other.simd_lane_slots;
+        self.fallback_rays += other.fallback_rays;
+    }
+
+    /// Mean node visits per ray (0 without rays).
+    pub fn nodes_per_ray(&self) -> f64 {
+        ratio(self.nodes_visited, self.rays)
+    }
+
+    /// Mean ray-primitive tests per ray (0 without rays).
+    pub fn prims_per_ray(&self) -> f64 {
+        ratio(self.prim_tests, self.rays)
+    }
+
+    /// The traversal cost of one ray for a heat map: node visits plus primitive
+    /// tests per ray (with fresh stats per ray or packet, the cost of that query).
+    pub fn cost_per_ray(&self) -> f64 {
+        ratio(self.nodes_visited + self.prim_tests, self.rays)
+    }
+
+    /// SIMD lane utilisation of packets: active lanes / lane slots, in `[0, 1]`
+    /// (0 when no packet was traced).
+    pub fn lane_utilisation(&self) -> f64 {
+        ratio(self.simd_active_lanes, self.simd_lane_slots)
+    }
+
+    /// A one-line summary for image captions and logs, e.g.
+    /// `31.2 nodes/ray, 4.1 prims/ray, lanes 83%`.
+    pub fn caption(&self) -> String {
+        let mut s = format!(
+            "{:.1} nodes/ray, {:.1} prims/ray",
+            self.nodes_per_ray(),
+            self.prims_per_ray()
+        );
+        if self.simd_lane_slots > 0 {
+            s += &format!(", lanes {:.0}%", 100.0 * self.lane_utilisation());
+        }
+        s
+    }
+}
+
+impl AddAssign<&TraversalStats> for TraversalStats {
+    fn add_assign(&mut self, other: &TraversalStats) {
+        self.merge(other);
+    }
+}
+
+fn ratio(a: u64, b: u64) -> f64 {
+    if b == 0 { 0.0 } else { a as f64 / b as f64 }
+}
+
+/// The [`Accel`] queries with their cost counted into a caller's [`TraversalStats`].
+/// Each returns exactly what the plain query returns.
+pub trait AccelWithStats: Accel {
+    /// [`Accel::intersect`], counted.
+    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit;
+
+    /// [`Accel::intersect_packet`], counted.
+    fn intersect_packet_with_stats<F: SimdFloat>(
+        &self,
+        rays: &RayPacket<F>,
+        stats: &mut TraversalStats,
+    ) -> HitPacket<F>;
+
+    /// [`Accel::occluded`], counted.
+    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool;
+
+    /// [`Accel::occluded_packet`], counted.
+    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wide::f32x8;
+
+    #[test]
+    fn packet_events_count_lanes_and_slots() {
+        let mut s = TraversalStats::default();
+        s.rays(8);
+        s.packet_node(f32x8::mask_from_bits(0b1111_0000));
+        s.packet_prim(f32x8::mask_from_bits(0b0000_0011));
+        assert_eq!(s.nodes_visited, 4);
+        assert_eq!(s.prim_tests, 2);
+        assert_eq!(s.simd_steps, 2);
+        assert_eq!(s.simd_lane_slots, 16);
+        assert!((s.lane_utilisation() - 6.0 / 16.0).abs() < 1e-12);
+        assert!((s.cost_per_ray() - 6.0 / 8.0).abs() < 1e-12);
+        let mut total = TraversalStats::default();
+        total += &s;
+        total += &s;
+        assert_eq!(total.simd_active_lanes, 12);
+        assert_eq!(total.rays, 16);
+        assert!(total.caption().contains("lanes 38%"), "{}", total.caption());
+    }
+
+    #[test]
+    fn empty_stats_have_zero_ratios() {
+        let s = TraversalStats::default();
+        assert_eq!(s.nodes_per_ray(), 0.0);
+        assert_eq!(s.lane_utilisation(), 0.0);
+        assert!(!s.caption().contains("lanes"));
+    }
+}

@@ -1,0 +1,261 @@
+//! Traversal throughput: Mrays/s of single-ray and 8-ray packet traversal of the
+//! BVH on primary (coherent) and random (incoherent) rays, and build times;
+//! shared by `raypack bench traversal` and the criterion bench `benches/traversal.rs`.
+//!
+//! Rays are made before timing, so only traversal is measured: primary rays
+//! through pixel centres in 16×16 tiles of 4×2-pixel packets (the same rays for
+//! both variants), random rays from points of the scene's box in uniform
+//! directions, packed 8 at a time. Threads take whole tiles (rayon). Variants
+//! are interleaved round by round and the best round is kept.
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+use wide::f32x8;
+
+use crate::accel::{Accel, AccelWithStats, Bvh, TraversalStats};
+use crate::bench::scenes;
+use crate::bounds::Aabb;
+use crate::camera::Camera;
+use crate::geometry::Primitive;
+use crate::packet::RayPacket8;
+use crate::ray::Ray;
+use crate::simd::SimdFloat;
+
+/// Rays per tile: 16×16 pixels, 32 packets of 4×2.
+pub const TILE_RAYS: usize = 256;
+
+/// A scene and the rays it is measured on.
+pub struct TraversalSetup {
+    /// Name in reports (`mesh-1000`, `dragon`…).
+    pub name: String,
+    /// The primitives.
+    pub prims: Vec<Primitive>,
+    /// Primary rays, tile by tile, packet by packet (lane order), pixel centres.
+    pub primary: Vec<Ray>,
+    /// The same rays in 4×2-pixel packets.
+    pub primary_packets: Vec<RayPacket8>,
+    /// Random rays.
+    pub random: Vec<Ray>,
+    /// The same rays, 8 to a packet.
+    pub random_packets: Vec<RayPacket8>,
+    /// Image size of the primary rays.
+    pub resolution: (u32, u32),
+}
+
+impl TraversalSetup {
+    /// Rays for `prims` seen by `camera` (`width`, `height` multiples of 16 are
+    /// best: partial tiles get inactive lanes), plus `random` random rays.
+    pub fn new(
+        name: impl Into<String>,
+        prims: Vec<Primitive>,
+        camera: &Camera,
+        random: usize,
+        seed: u64,
+    ) -> Self {
+        let (w, h) = (camera.width, camera.height);
+        let mut primary = Vec::with_capacity((w * h) as usize);
+        let mut primary_packets = Vec::with_capacity((w * h) as usize / 8);
+        for ty in (0..h).step_by(16) {
+            for tx in (0..w).step_by(16) {
+                for py in (ty..(ty + 16).min(h)).step_by(2) {
+                    for px in (tx..(tx + 16).min(w)).step_by(4) {
+                        let pixels: Vec<(u32, u32)> = (0..8)
+                            .map(|k| (px + k % 4, py + k / 4))
+                            .filter(|&(i, j)| i < w && j < h)
+                            .collect();
+                        primary.extend(pixels.iter().map(|&(i, j)| camera.pixel_ray(i, j)));
+                        primary_packets.push(camera.pixel_packet::<f32x8>(&pixels));
+                    }
+                }
+            }
+        }
+        let bounds = scene_bounds(&prims);
+        let random = scenes::random_rays(bounds, random, seed);
+        let random_packets = random.chunks(8).map(RayPacket8::from_rays).collect();
+        Self {
+            name: name.into(),
+            prims,
+            primary,
+            primary_packets,
+            random,
+            random_packets,
+            resolution: (w, h),
+        }
+    }
+
+    /// A generated scene of about `n` primitives: `kind` is `mesh` (bumpy-sphere
+    /// triangles) or `spheres`; seen by [`scenes::framing_camera`].
+    pub fn generated(kind: &str, n: usize, width: u32, height: u32, random: usize) -> Option<Self> {
+        let prims = match kind {
+            "mesh" => scenes::bumpy_sphere(n, 1),
+            "spheres" => scenes::random_spheres(n, 1),
+            _ => return None,
+        };
+        let camera = scenes::framing_camera(scene_bounds(&prims), width, height);
+        Some(Self::new(format!("{kind}-{n}"), prims, &camera, random, 2))
+    }
+}
+
+/// The box of the bounded primitives (the unit cube when there are none).
+pub fn scene_bounds(prims: &[Primitive]) -> Aabb {
+    let b = prims
+        .iter()
+        .filter_map(Primitive::bounds)
+        .fold(Aabb::EMPTY, Aabb::union);
+    if b.is_empty() {
+        Aabb::new(-glam::Vec3::ONE, glam::Vec3::ONE)
+    } else {
+        b
+    }
+}
+
+/// Trace `rays` one by one, tiles spread over the current rayon pool; returns a checksum.
+pub fn trace_single(accel: &impl Accel, rays: &[Ray]) -> u64 {
+    rays.par_chunks(TILE_RAYS)
+        .map(|tile| {
+            tile.iter()
+                .map(|r| u64::from(accel.intersect(r).prim))
+                .sum::<u64>()
+        })
+        .sum()
+}
+
+/// Trace `packets`, tiles spread over the current rayon pool; returns a checksum.
+pub fn trace_packets(accel: &impl Accel, packets: &[RayPacket8]) -> u64 {
+    packets
+        .par_chunks(TILE_RAYS / 8)
+        .map(|tile| {
+            tile.iter()
+                .map(|p| u64::from(accel.intersect_packet(p).hit_mask().bitmask()))
+                .sum::<u64>()
+        })
+        .sum()
+}
+
+/// One row of the traversal table.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TraversalRow {
+    /// Scene name.
+    pub scene: String,
+    /// Primitives in the scene.
+    pub primitives: usize,
+    /// Threads of the rayon pool.
+    pub threads: usize,
+    /// Best build time, seconds.
+    pub build_s: f64,
+    /// Primary rays: image size.
+    pub resolution: (u32, u32),
+    /// Primary rays, single-ray traversal, Mrays/s.
+    pub primary_single_mrays: f64,
+    /// Primary rays, 8-ray packets (4×2 pixels), Mrays/s.
+    pub primary_packet_mrays: f64,
+    /// Random rays, single-ray traversal, Mrays/s.
+    pub random_single_mrays: f64,
+    /// Random rays, 8-ray packets, Mrays/s.
+    pub random_packet_mrays: f64,
+    /// Counts of the primary packet pass.
+    pub primary_packet_stats: TraversalStats,
+    /// Counts of the primary single-ray pass.
+    pub primary_single_stats: TraversalStats,
+    /// Counts of the random packet pass.
+    pub random_packet_stats: TraversalStats,
+    /// Timed rounds per variant (best kept).
+    pub rounds: usize,
+}
+
+/// Best (shortest) wall time of `f` over `rounds` calls.
+fn best_time<T>(rounds: usize, mut f: impl FnMut() -> T) -> Duration {
+    (0..rounds.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            black_box(f());
+            start.elapsed()
+        })
+        .min()
+        .unwrap_or_default()
+}
+
+/// Measure `setup` on a rayon pool of `threads`: build time (best of 3), then
+/// the four traversal variants interleaved, best of `rounds`.
+pub fn measure(setup: &TraversalSetup, threads: usize, rounds: usize) -> TraversalRow {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a rayon pool");
+    pool.install(|| {
+        let build = best_time(3, || Bvh::new(&setup.prims));
+        let bvh = Bvh::new(&setup.prims);
+        let mrays = |n: usize, t: Duration| n as f64 / t.as_secs_f64() / 1e6;
+        // Warm up every variant once (caches, page faults), then interleave.
+        let mut best = [Duration::MAX; 4];
+        for round in 0..=rounds {
+            let times = [
+                best_time(1, || trace_single(&bvh, &setup.primary)),
+                best_time(1, || trace_packets(&bvh, &setup.primary_packets)),
+                best_time(1, || trace_single(&bvh, &setup.random)),
+                best_time(1, || trace_packets(&bvh, &setup.random_packets)),
+            ];
+            if round > 0 {
+                for (b, t) in best.iter_mut().zip(times) {
+                    *b = (*b).min(t);
+                }
+            }
+        }
+        let mut stats = [TraversalStats::default(); 3];
+        for p in &setup.primary_packets {
+            bvh.intersect_packet_with_stats(p, &mut stats[0]);
+        }
+        for r in &setup.primary {
+            bvh.intersect_with_stats(r, &mut stats[1]);
+        }
+        for p in &setup.random_packets {
+            bvh.intersect_packet_with_stats(p, &mut stats[2]);
+        }
+        TraversalRow {
+            scene: setup.name.clone(),
+            primitives: setup.prims.len(),
+            threads,
+            build_s: build.as_secs_f64(),
+            resolution: setup.resolution,
+            primary_single_mrays: mrays(setup.primary.len(), best[0]),
+            primary_packet_mrays: mrays(setup.primary.len(), best[1]),
+            random_single_mrays: mrays(setup.random.len(), best[2]),
+            random_packet_mrays: mrays(setup.random.len(), best[3]),
+            primary_packet_stats: stats[0],
+            primary_single_stats: stats[1],
+            random_packet_stats: stats[2],
+            rounds,
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn primary_packets_hold_the_primary_rays_in_order() {
+        let s = TraversalSetup::generated("mesh", 500, 40, 20, 100).expect("known kind");
+        assert_eq!(s.primary.len(), 800);
+        assert_eq!(s.random_packets.len(), 13);
+        let mut k = 0;
+        for p in &s.primary_packets {
+            for lane in 0..8 {
+                if p.is_active(lane) {
+                    assert_eq!(p.ray(lane), s.primary[k]);
+                    k += 1;
+                }
+            }
+        }
+        assert_eq!(k, s.primary.len());
+        let bvh = Bvh::new(&s.prims);
+        let brute = crate::accel::BruteForce::new(&s.prims);
+        assert_eq!(trace_single(&bvh, &s.primary), trace_single(&brute, &s.primary));
+        assert_eq!(
+            trace_packets(&bvh, &s.primary_packets),
+            trace_packets(&brute, &s.primary_packets)
+        );
+    }
+}

@@ -1,0 +1,120 @@
+//! Traversal statistics and the `--accel` choice: counted queries return exactly
+//! what plain queries return, and the counts mean what they say.
+
+mod bvh_support;
+
+use clap::ValueEnum;
+use raypack::accel::{Accel, AccelKind, AccelWithStats, AnyAccel, BruteForce, Bvh, TraversalStats};
+use raypack::bench::scenes;
+use raypack::packet::RayPacket8;
+use raypack::simd::SimdFloat;
+
+#[test]
+fn counted_queries_return_the_plain_answers() {
+    let prims = scenes::random_mixed(2000, 21);
+    let bounds = bvh_support::scene_bounds(&prims);
+    let rays = bvh_support::random_rays(bounds, 4000, 22);
+    let bvh = Bvh::new(&prims);
+    let brute = BruteForce::new(&prims);
+    let (mut s_bvh, mut s_brute) = (TraversalStats::default(), TraversalStats::default());
+    for ray in &rays {
+        let plain = bvh_support::key(&bvh.intersect(ray));
+        assert_eq!(
+            bvh_support::key(&bvh.intersect_with_stats(ray, &mut s_bvh)),
+            plain
+        );
+        assert_eq!(
+            bvh_support::key(&brute.intersect_with_stats(ray, &mut s_brute)),
+            plain
+        );
+        assert_eq!(
+            bvh.occluded_with_stats(ray, &mut TraversalStats::default()),
+            bvh.occluded(ray)
+        );
+        assert_eq!(
+            brute.occluded_with_stats(ray, &mut TraversalStats::default()),
+            bvh.occluded(ray)
+        );
+    }
+    for chunk in rays.chunks(8) {
+        let p = RayPacket8::from_rays(chunk);
+        let plain = bvh.intersect_packet(&p);
+        let counted = bvh.intersect_packet_with_stats(&p, &mut TraversalStats::default());
+        let brute_counted = brute.intersect_packet_with_stats(&p, &mut TraversalStats::default());
+        for lane in 0..chunk.len() {
+            assert_eq!(
+                bvh_support::key(&counted.hit(lane)),
+                bvh_support::key(&plain.hit(lane))
+            );
+            assert_eq!(
+                bvh_support::key(&brute_counted.hit(lane)),
+                bvh_support::key(&plain.hit(lane))
+            );
+        }
+        let occluded = bvh.occluded_packet(&p).bitmask();
+        let mut s = TraversalStats::default();
+        assert_eq!(bvh.occluded_packet_with_stats(&p, &mut s).bitmask(), occluded);
+        assert_eq!(brute.occluded_packet_with_stats(&p, &mut s).bitmask(), occluded);
+    }
+    // Brute force tests every primitive once per ray and visits no node.
+    assert_eq!(s_brute.rays, rays.len() as u64);
+    assert_eq!(s_brute.prim_tests, (rays.len() * prims.len()) as u64);
+    assert_eq!(s_brute.nodes_visited, 0);
+    // The BVH visits nodes and tests a small fraction of the primitives.
+    assert_eq!(s_bvh.rays, rays.len() as u64);
+    assert!(s_bvh.nodes_visited >= rays.len() as u64);
+    assert!(
+        s_bvh.prims_per_ray() < prims.len() as f64 / 20.0,
+        "{}",
+        s_bvh.caption()
+    );
+    assert_eq!(s_bvh.simd_lane_slots, 0, "single rays make no SIMD steps");
+}
+
+#[test]
+fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
+    let prims = scenes::bumpy_sphere(20_000, 23);
+    let bvh = Bvh::new(&prims);
+    let bounds = bvh_support::scene_bounds(&prims);
+    let mut primary = TraversalStats::default();
+    for (_, packet) in bvh_support::primary_packets(bounds, 128, 128) {
+        bvh.intersect_packet_with_stats(&packet, &mut primary);
+    }
+    let mut random = TraversalStats::default();
+    for chunk in bvh_support::random_rays(bounds, 128 * 128, 24).chunks(8) {
+        bvh.intersect_packet_with_stats(&RayPacket8::from_rays(chunk), &mut random);
+    }
+    assert_eq!(primary.rays, 128 * 128);
+    assert_eq!(primary.packets, 128 * 128 / 8);
+    let (p, r) = (primary.lane_utilisation(), random.lane_utilisation());
+    assert!(p > 0.0 && p <= 1.0 && r > 0.0 && r <= 1.0);
+    assert!(p > r, "primary {p} vs random {r}");
+    assert!(
+        random.fallback_rays > 0,
+        "incoherent packets fall back to single rays"
+    );
+    assert!(primary.simd_active_lanes <= primary.simd_lane_slots);
+}
+
+#[test]
+fn accel_kind_parses_builds_and_forwards() {
+    assert_eq!(AccelKind::default(), AccelKind::Bvh);
+    assert_eq!(AccelKind::from_str("none", false), Ok(AccelKind::None));
+    assert_eq!(AccelKind::from_str("bvh", false), Ok(AccelKind::Bvh));
+    assert!(AccelKind::from_str("kd", false).is_err());
+    assert_eq!(AccelKind::Bvh.to_string(), "bvh");
+    let prims = scenes::random_spheres(300, 25);
+    let rays = bvh_support::random_rays(bvh_support::scene_bounds(&prims), 2000, 26);
+    let none = AccelKind::None.build(&prims);
+    let bvh = AccelKind::Bvh.build(&prims);
+    assert!(matches!(none, AnyAccel::None(_)) && none.kind() == AccelKind::None);
+    assert!(matches!(bvh, AnyAccel::Bvh(_)) && bvh.kind() == AccelKind::Bvh);
+    let mut stats = [TraversalStats::default(), TraversalStats::default()];
+    for ray in &rays {
+        let a = none.intersect_with_stats(ray, &mut stats[0]);
+        let b = bvh.intersect_with_stats(ray, &mut stats[1]);
+        assert_eq!(bvh_support::key(&a), bvh_support::key(&b));
+        assert_eq!(none.occluded(ray), bvh.occluded(ray));
+    }
+    assert!(stats[1].prim_tests < stats[0].prim_tests / 10);
+}
