@@ -9,7 +9,7 @@ use crate::bench::kernels::{Measure, for_each_setup};
 use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure};
 use crate::cli::render::{load_scene, parse_size, scene_camera};
 use crate::cli::{CliError, CliResult};
-use crate::render::engine::{AccelKind, WithAccel, with_accel};
+use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, KernelKind};
 
 /// What to measure.
@@ -211,6 +211,9 @@ pub struct SceneArgs {
     /// Acceleration structure.
     #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
     pub accel: AccelKind,
+    /// Engines to measure, comma-separated (`embree` needs the `embree` feature).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Engine::Raypack])]
+    pub engine: Vec<Engine>,
     /// Pixel blocks per packet to measure, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Block::B4x2])]
     pub block: Vec<Block>,
@@ -233,7 +236,7 @@ pub struct SceneArgs {
 pub struct SceneRow {
     /// Scene file name.
     pub scene: String,
-    /// Always `raypack`.
+    /// `raypack` or `embree`.
     pub engine: &'static str,
     /// Kernel.
     pub kernel: &'static str,
@@ -245,8 +248,12 @@ pub struct SceneRow {
     pub mrays_per_s: f64,
     /// Million primary rays per second, median run.
     pub median_mrays_per_s: f64,
-    /// `mrays_per_s` over that of the first variant (first kernel, block and thread count).
+    /// `mrays_per_s` over that of the first row (first engine, kernel, block and thread count).
     pub ratio: f64,
+    /// raypack rows: `mrays_per_s` over Embree's on the same kernel width, block
+    /// and threads in this run (when Embree was measured).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_embree: Option<f64>,
     /// Ray kind measured.
     pub rays_kind: &'static str,
     /// Rays per run.
@@ -286,6 +293,13 @@ impl WithAccel for SceneJob<'_> {
     }
 }
 
+fn engine_name(engine: Engine) -> &'static str {
+    match engine {
+        Engine::Raypack => "raypack",
+        Engine::Embree => "embree",
+    }
+}
+
 fn scene(args: SceneArgs) -> CliResult {
     let (scene, _) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, &args.scene, args.size)?;
@@ -302,29 +316,34 @@ fn scene(args: SceneArgs) -> CliResult {
             }
         }
     }
-    let job = SceneJob {
-        frame: &frame,
-        variants: &variants,
-        runs: args.runs,
-    };
-    let (timings, setup_seconds) =
-        with_accel(&scene, args.accel, job).map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
     let name = args.scene.file_name().map_or_else(
         || args.scene.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
-    let base = timings[0].mrays_per_s();
-    let rows: Vec<SceneRow> = timings
-        .iter()
-        .map(|t| SceneRow {
+    let mut rows: Vec<SceneRow> = Vec::new();
+    for &engine in &args.engine {
+        let job = SceneJob {
+            frame: &frame,
+            variants: &variants,
+            runs: args.runs,
+        };
+        let (timings, setup_seconds) = with_engine(&scene, engine, args.accel, job)
+            .map_err(CliError::BadInput)?
+            .map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
+        let accel = match engine {
+            Engine::Raypack => args.accel.name(),
+            Engine::Embree => "embree",
+        };
+        rows.extend(timings.iter().map(|t| SceneRow {
             scene: name.clone(),
-            engine: "raypack",
+            engine: engine_name(engine),
             kernel: t.variant.kernel.name(),
-            accel: args.accel.name(),
+            accel,
             threads: t.variant.threads,
             mrays_per_s: t.mrays_per_s(),
             median_mrays_per_s: t.rays as f64 / t.median_seconds / 1e6,
-            ratio: t.mrays_per_s() / base,
+            ratio: 0.0,
+            vs_embree: None,
             rays_kind: "primary",
             rays: t.rays,
             hits: t.hits,
@@ -335,8 +354,21 @@ fn scene(args: SceneArgs) -> CliResult {
             runs: args.runs,
             primitives: scene.primitives.len(),
             setup_ms: 1e3 * setup_seconds,
-        })
-        .collect();
+        }));
+    }
+    // Ratios measured in this one run: against the first row, and raypack
+    // against Embree on the same kernel width, block and threads.
+    let base = rows[0].mrays_per_s;
+    let embree: Vec<SceneRow> = rows.iter().filter(|r| r.engine == "embree").cloned().collect();
+    for r in &mut rows {
+        r.ratio = r.mrays_per_s / base;
+        if r.engine == "raypack" {
+            r.vs_embree = embree
+                .iter()
+                .find(|e| e.kernel == r.kernel && e.threads == r.threads && e.block == r.block)
+                .map(|e| r.mrays_per_s / e.mrays_per_s);
+        }
+    }
     if args.json {
         println!(
             "{}",
@@ -355,19 +387,22 @@ fn scene(args: SceneArgs) -> CliResult {
         args.runs
     );
     println!(
-        "{:<8} {:>5} {:>7} {:>10} {:>10} {:>9} {:>12}",
-        "kernel", "block", "threads", "Mrays/s", "median", "best ms", "vs first"
+        "{:<8} {:<8} {:>5} {:>7} {:>10} {:>10} {:>9} {:>12} {:>10}",
+        "engine", "kernel", "block", "threads", "Mrays/s", "median", "best ms", "vs first", "vs embree"
     );
     for r in &rows {
+        let vs_embree = r.vs_embree.map_or(String::new(), |x| format!("{x:.2}x"));
         println!(
-            "{:<8} {:>5} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x",
+            "{:<8} {:<8} {:>5} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x {:>10}",
+            r.engine,
             r.kernel,
             r.block,
             r.threads,
             r.mrays_per_s,
             r.median_mrays_per_s,
             r.rays as f64 / r.mrays_per_s / 1e3,
-            r.ratio
+            r.ratio,
+            vs_embree
         );
     }
     Ok(())

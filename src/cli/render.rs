@@ -9,7 +9,7 @@ use clap::Args as ClapArgs;
 use crate::camera::Camera;
 use crate::cli::{CliError, CliResult};
 use crate::render::annotate::annotate_render;
-use crate::render::engine::{AccelKind, WithAccel, with_accel};
+use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::output::{AtomicFile, png_bytes};
 use crate::render::progress::Progress;
 use crate::render::report::{RenderReport, RunInfo};
@@ -42,6 +42,9 @@ pub struct Args {
     /// Acceleration structure.
     #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
     pub accel: AccelKind,
+    /// Engine that traces: raypack, or Embree (needs the `embree` feature).
+    #[arg(long, value_enum, default_value_t = Engine::Raypack)]
+    pub engine: Engine,
     /// Maximum ray depth in whitted mode (the eye ray is depth 1).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub depth: u32,
@@ -162,7 +165,12 @@ pub fn run(args: Args) -> CliResult {
         settings: &settings,
         pool: &pool,
     };
-    let (out, setup_seconds) = with_accel(&scene, args.accel, job);
+    let (out, setup_seconds) =
+        with_engine(&scene, args.engine, args.accel, job).map_err(CliError::BadInput)?;
+    let accel = match args.engine {
+        Engine::Raypack => args.accel.name(),
+        Engine::Embree => "embree",
+    };
 
     let report = RenderReport::new(
         &scene,
@@ -171,7 +179,7 @@ pub fn run(args: Args) -> CliResult {
             kernel: args.kernel,
             block: args.block,
             mode: args.mode,
-            accel: args.accel.name(),
+            accel,
             threads: pool.current_num_threads(),
             tile_size: args.tile,
             max_depth: args.depth,

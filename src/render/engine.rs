@@ -8,6 +8,7 @@ use std::time::Instant;
 
 pub use crate::accel::AccelKind;
 use crate::accel::{Accel, BruteForce, Bvh};
+pub use crate::compare::Engine;
 use crate::scene::Scene;
 
 /// Code to run with an acceleration structure of any type.
@@ -31,4 +32,35 @@ pub fn with_accel<J: WithAccel>(scene: &Scene, kind: AccelKind, job: J) -> J::Ou
             job.run(&accel, start.elapsed().as_secs_f64())
         }
     }
+}
+
+/// Run `job` with the engine the user chose: raypack's structure `kind`, or
+/// Embree in its default (fast) scene mode on [`DEFAULT_EMBREE_CONFIG`], with
+/// FTZ/DAZ set on every worker thread as Embree wants.
+pub fn with_engine<J: WithAccel>(
+    scene: &Scene,
+    engine: Engine,
+    kind: AccelKind,
+    job: J,
+) -> anyhow::Result<J::Output> {
+    match engine {
+        Engine::Raypack => Ok(with_accel(scene, kind, job)),
+        Engine::Embree => with_embree(scene, job),
+    }
+}
+
+#[cfg(feature = "embree")]
+fn with_embree<J: WithAccel>(scene: &Scene, job: J) -> anyhow::Result<J::Output> {
+    use crate::compare::DEFAULT_EMBREE_CONFIG;
+    use crate::embree::{Device, EmbreeScene, flush_denormals};
+    rayon::broadcast(|_| flush_denormals());
+    let start = Instant::now();
+    let device = std::sync::Arc::new(Device::new(DEFAULT_EMBREE_CONFIG)?);
+    let embree = EmbreeScene::new(device, &scene.primitives)?;
+    Ok(job.run(&embree, start.elapsed().as_secs_f64()))
+}
+
+#[cfg(not(feature = "embree"))]
+fn with_embree<J: WithAccel>(_scene: &Scene, _job: J) -> anyhow::Result<J::Output> {
+    anyhow::bail!(crate::compare::EMBREE_MISSING)
 }
