@@ -117,3 +117,54 @@ fn trace_through_embree_matches_raypack_on_the_same_file() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn render_and_bench_scene_run_through_embree() {
+    let dir = std::env::temp_dir().join(format!("raypack-embree-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("lecture.png");
+    let json = dir.join("lecture.json");
+    let o = raypack()
+        .args([
+            "render",
+            "scenes/lecture.toml",
+            "-o",
+            png.to_str().unwrap(),
+            "--size",
+            "64x48",
+        ])
+        .args(["--engine", "embree", "--stats-json", json.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(png.exists());
+    let report = std::fs::read_to_string(&json).unwrap();
+    assert!(report.contains("embree"), "{report}");
+
+    let o = raypack()
+        .args([
+            "bench",
+            "scene",
+            "scenes/lecture.toml",
+            "--size",
+            "32x32",
+            "--runs",
+            "1",
+        ])
+        .args(["--threads", "1", "--engine", "raypack,embree", "--json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = rows.as_array().unwrap();
+    let engines: Vec<&str> = rows.iter().map(|r| r["engine"].as_str().unwrap()).collect();
+    assert!(
+        engines.contains(&"raypack") && engines.contains(&"embree"),
+        "{engines:?}"
+    );
+    // Both engines see the same rays, so they report the same number of hits.
+    let hits: Vec<u64> = rows.iter().map(|r| r["hits"].as_u64().unwrap()).collect();
+    assert!(hits.windows(2).all(|w| w[0] == w[1]), "{hits:?}");
+    assert!(rows.iter().any(|r| r["vs_embree"].as_f64().is_some()));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -175,3 +175,21 @@ fn the_first_scene_file_renders_through_the_command_line_with_a_sidecar() {
     assert_eq!(report["threads"], 2);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[cfg(not(feature = "embree"))]
+#[test]
+fn asking_for_embree_without_the_feature_is_a_clear_error() {
+    let dir = scratch("no-embree");
+    let out = dir.join("x.png");
+    let o = raypack(&[
+        "render",
+        "scenes/lecture.toml",
+        "-o",
+        out.to_str().unwrap(),
+        "--engine",
+        "embree",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("embree"), "{}", stderr(&o));
+    assert!(!out.exists());
+}

@@ -82,7 +82,8 @@ impl Transformed {
         if det == 0.0 || !det.is_finite() {
             return Err(GeometryError::SingularTransform);
         }
-        let inverse = m.inverse();
+        // Inverted in double precision: M⁻¹ feeds every ray, and its rounding shows in t.
+        let inverse = m.as_dmat4().inverse().as_mat4();
         if !inverse.is_finite() {
             return Err(GeometryError::SingularTransform);
         }
