@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 use glam::Vec3;
+use raypack::bounds::Aabb;
 use raypack::geometry::{Intersect, Primitive};
 use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, NO_HIT, Ray};
@@ -35,93 +36,151 @@ pub fn random_ray(rng: &mut Rng, lo: Vec3, hi: Vec3) -> Ray {
     Ray::new(origin, dir, t_min, t_max)
 }
 
-/// A record a kernel may meet: empty, or an earlier hit on a lower or higher
-/// primitive index at some t (exercises the "closer" and tie rules).
-pub fn prior_hit(rng: &mut Rng, ray: &Ray, size: f32) -> Hit {
+pub const PRIM: u32 = 5;
+
+/// What an agreement run saw, so a test can check it was not vacuous.
+#[derive(Debug, Default)]
+pub struct Agreement {
+    /// Active lanes compared.
+    pub active: usize,
+    /// Active lanes on which the kernel recorded a hit.
+    pub hits: usize,
+    /// Inactive lanes checked to be untouched.
+    pub inactive: usize,
+}
+
+/// Random rays around a box: half start on a sphere a few box sizes away and aim
+/// at a point of the (slightly grown) box, half start inside the grown box with
+/// a random direction. A quarter get a random positive `t_min`, a quarter a
+/// finite `t_max`.
+pub fn rays_around(rng: &mut Rng, bounds: Aabb, n: usize) -> Vec<Ray> {
+    let size = bounds.extent().length().max(1e-3);
+    let lo = bounds.min - 0.25 * size;
+    let hi = bounds.max + 0.25 * size;
+    (0..n)
+        .map(|_| {
+            let (origin, dir) = if rng.f32() < 0.5 {
+                let origin = bounds.center() + rng.range(1.0, 20.0) * size * rng.unit_vector();
+                (origin, (rng.point_in(lo, hi) - origin).normalize())
+            } else {
+                (rng.point_in(lo, hi), rng.unit_vector())
+            };
+            let t_min = if rng.f32() < 0.25 {
+                rng.range(0.0, size)
+            } else {
+                0.0
+            };
+            let t_max = if rng.f32() < 0.25 {
+                rng.range(0.0, 10.0 * size)
+            } else {
+                f32::INFINITY
+            };
+            Ray::new(origin, dir, t_min, t_max)
+        })
+        .collect()
+}
+
+/// A prior record for a lane: mostly empty, sometimes an earlier hit of a
+/// lower or higher primitive index at a random distance (so the kernel must
+/// respect `hit.t` and the tie rule).
+fn prior_record(rng: &mut Rng, ray: &Ray, scale: f32) -> Hit {
     let mut hit = Hit::none(ray);
-    if rng.below(3) == 0 {
-        hit.t = rng.range(0.0, 3.0 * size).min(ray.t_max);
-        hit.prim = rng.below(10);
-        hit.u = 0.25;
-        hit.v = 0.5;
+    if rng.f32() < 0.25 {
+        let prim = if rng.f32() < 0.5 { PRIM - 1 } else { PRIM + 1 };
+        hit.record(rng.range(0.0, 20.0 * scale), prim, 0.25, 0.5);
     }
     hit
 }
 
-/// Counts of one agreement run.
-#[derive(Debug, Default)]
-pub struct Agreement {
-    /// Lanes compared (active and inactive).
-    pub lanes: usize,
-    /// Active lanes on which the scalar kernel recorded a hit.
-    pub hits: usize,
+/// Check `kernel`'s packet kernel at width `F` against its scalar kernel on
+/// `rays`, with random active masks and prior records. Panics on the first
+/// lane that differs: hit versus miss, primitive, `t` beyond 1e-5 relative,
+/// `(u, v)` beyond 1e-5, or a touched inactive lane.
+pub fn check<K: Intersect, F: SimdFloat>(kernel: &K, rays: &[Ray], scale: f32, rng: &mut Rng) -> Agreement {
+    let mut seen = Agreement::default();
+    for chunk in rays.chunks_exact(F::LANES) {
+        let mask = rng.next_u32() | rng.next_u32(); // about 3/4 of the lanes active
+        let packet = RayPacket::<F>::from_rays_masked(chunk, mask);
+        let priors: Vec<Hit> = chunk.iter().map(|r| prior_record(rng, r, scale)).collect();
+        let mut hits = HitPacket::none(&packet);
+        for (i, prior) in priors.iter().enumerate() {
+            hits.set_hit(i, prior);
+        }
+        kernel.intersect_packet(&packet, PRIM, &mut hits);
+        for (i, (ray, prior)) in chunk.iter().zip(&priors).enumerate() {
+            let got = hits.hit(i);
+            if !packet.is_active(i) {
+                assert_eq!(got, *prior, "inactive lane {i} was changed, ray {ray:?}");
+                seen.inactive += 1;
+                continue;
+            }
+            let mut want = *prior;
+            let recorded = kernel.intersect(ray, PRIM, &mut want);
+            seen.active += 1;
+            seen.hits += recorded as usize;
+            assert_eq!(
+                got.prim, want.prim,
+                "lane {i}: primitive differs, ray {ray:?}, prior {prior:?}"
+            );
+            let t_ok = got.t == want.t || (got.t - want.t).abs() <= 1e-5 * want.t.abs();
+            assert!(t_ok, "lane {i}: t {} vs scalar {}, ray {ray:?}", got.t, want.t);
+            assert!(
+                (got.u - want.u).abs() <= 1e-5 && (got.v - want.v).abs() <= 1e-5,
+                "lane {i}: (u, v) ({}, {}) vs scalar ({}, {}), ray {ray:?}",
+                got.u,
+                got.v,
+                want.u,
+                want.v
+            );
+        }
+    }
+    seen
 }
 
-/// Trace `n` random rays (in packets of `F::LANES`, about a quarter of the lanes
-/// inactive) with both kernels of `shape` as primitive 5, and assert that every
-/// lane agrees: hit or miss, primitive, t to 1e-5 relative, u and v; inactive
-/// lanes keep their record bit for bit.
+/// True when `hit` is the empty record of `ray`.
+pub fn is_miss(hit: &Hit) -> bool {
+    hit.prim == NO_HIT
+}
+
+/// A ray over `[0, ∞)` from `origin` along the normalised `dir`.
+pub fn ray(origin: Vec3, dir: Vec3) -> Ray {
+    Ray::unbounded(origin, dir.normalize())
+}
+
+/// The scalar kernel's hit distance on `ray`, if any.
+pub fn scalar_t<K: Intersect>(kernel: &K, ray: &Ray) -> Option<f32> {
+    let mut hit = Hit::none(ray);
+    kernel.intersect(ray, PRIM, &mut hit).then_some(hit.t)
+}
+
+/// The 8-wide packet kernel's hit distance on `ray` (alone in lane 0), if any.
+pub fn packet_t<K: Intersect>(kernel: &K, ray: &Ray) -> Option<f32> {
+    let packet = RayPacket::<wide::f32x8>::from_rays(&[*ray]);
+    let mut hits = HitPacket::none(&packet);
+    kernel.intersect_packet(&packet, PRIM, &mut hits);
+    let hit = hits.hit(0);
+    (!is_miss(&hit)).then_some(hit.t)
+}
+
+/// Both kernels' hit distance on `ray`, after checking they agree exactly.
+pub fn both_t<K: Intersect>(kernel: &K, ray: &Ray) -> Option<f32> {
+    let (s, p) = (scalar_t(kernel, ray), packet_t(kernel, ray));
+    assert_eq!(s, p, "scalar and packet kernels differ on {ray:?}");
+    s
+}
+
+/// Trace `n` random rays from [`random_ray`] around `[lo, hi]` through both
+/// kernels of `shape` with [`check`].
 pub fn assert_packet_matches_scalar<K: Intersect, F: SimdFloat>(
-    name: &str,
     shape: &K,
     lo: Vec3,
     hi: Vec3,
     n: usize,
     seed: u64,
 ) -> Agreement {
-    const PRIM: u32 = 5;
     let mut rng = Rng::new(seed);
-    let size = (hi - lo).length();
-    let mut stats = Agreement::default();
-    let lanes = F::LANES;
-    for _ in 0..n.div_ceil(lanes) {
-        let rays: Vec<Ray> = (0..lanes).map(|_| random_ray(&mut rng, lo, hi)).collect();
-        let priors: Vec<Hit> = rays.iter().map(|r| prior_hit(&mut rng, r, size)).collect();
-        let mask = rng.next_u32() | rng.next_u32(); // ~75% of lanes active
-        let packet = RayPacket::<F>::from_rays_masked(&rays, mask);
-        let mut hits = HitPacket::none(&packet);
-        for (i, h) in priors.iter().enumerate() {
-            hits.set_hit(i, h);
-        }
-        shape.intersect_packet(&packet, PRIM, &mut hits);
-        for i in 0..lanes {
-            stats.lanes += 1;
-            let got = hits.hit(i);
-            if mask >> i & 1 == 0 {
-                assert!(
-                    got.t.to_bits() == priors[i].t.to_bits() && got.prim == priors[i].prim,
-                    "{name}: inactive lane {i} changed: {got:?} vs {:?} for {:?}",
-                    priors[i],
-                    rays[i]
-                );
-                continue;
-            }
-            let mut want = priors[i];
-            let updated = shape.intersect(&rays[i], PRIM, &mut want);
-            stats.hits += updated as usize;
-            let same_t = got.t == want.t
-                || (got.t - want.t).abs() <= 1e-5 * want.t.abs().max(got.t.abs())
-                || (got.t.is_nan() && want.t.is_nan());
-            assert!(
-                got.prim == want.prim && same_t,
-                "{name}: lane {i} disagrees: packet {got:?}, scalar {want:?} (updated: {updated}) for {:?}",
-                rays[i]
-            );
-            if updated {
-                assert!(
-                    (got.u - want.u).abs() <= 1e-4 && (got.v - want.v).abs() <= 1e-4,
-                    "{name}: lane {i} (u, v) differ: packet {got:?}, scalar {want:?}"
-                );
-                assert!(
-                    want.t.is_finite() && want.prim == PRIM,
-                    "{name}: bad record {want:?}"
-                );
-            } else {
-                assert!(want.prim == priors[i].prim || want.prim == NO_HIT);
-            }
-        }
-    }
-    stats
+    let rays: Vec<Ray> = (0..n).map(|_| random_ray(&mut rng, lo, hi)).collect();
+    check::<K, F>(shape, &rays, (hi - lo).length(), &mut rng)
 }
 
 /// Rays with a NaN or infinite component, each with whether it must miss: NaN
