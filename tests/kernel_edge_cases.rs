@@ -445,3 +445,28 @@ fn singular_or_projective_transforms_are_errors() {
     nan.w_axis.x = f32::NAN;
     assert_eq!(Transformed::new(sphere, nan), Err(GeometryError::NotFinite));
 }
+
+#[test]
+fn closed_mesh_has_no_cracks_at_shared_vertices_and_edges() {
+    // Rays from outside a closed sphere mesh of radius 2 aimed exactly at every
+    // vertex and edge midpoint: each must stop at the near surface (t ≈ 1), not
+    // slip through the shared point to the far side (t ≈ 5).
+    let prims = raypack::compare::test_scenes::uv_sphere_mesh(Vec3::ZERO, 2.0, 400);
+    let accel = raypack::accel::BruteForce::new(&prims);
+    let mut rays = 0;
+    for p in &prims {
+        let Primitive::Triangle(t) = p else { continue };
+        let [a, b, c] = t.vertices();
+        for target in [a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)] {
+            let origin = 3.0 * target.normalize();
+            let r = Ray::unbounded(origin, (target - origin).normalize());
+            let hit = raypack::accel::Accel::intersect(&accel, &r);
+            assert!(hit.is_hit() && hit.t < 1.5, "crack at {target}: {hit:?}");
+            let packet = RayPacket8::from_rays(&[r; 8]);
+            let hits = raypack::accel::Accel::intersect_packet(&accel, &packet);
+            assert_eq!(hits.hit(0).prim, hit.prim);
+            rays += 1;
+        }
+    }
+    assert!(rays > 2000, "{rays}");
+}

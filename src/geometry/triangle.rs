@@ -24,6 +24,12 @@ use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
 
+/// How far outside its edges, in barycentric units, a triangle still counts as
+/// hit. Two triangles sharing an edge compute its barycentrics in their own
+/// projection frames and may round a ray through the shared edge or vertex
+/// outside both; this margin (a few f32 ulps of 1) closes those cracks.
+const EDGE_EPSILON: f32 = 1.0 / (1 << 20) as f32;
+
 /// Dropped-axis value marking a zero-area triangle, which every ray misses.
 const DEGENERATE: u32 = 3;
 
@@ -160,7 +166,7 @@ impl Intersect for Triangle {
         let hv = o[kv] + t * d[kv] - self.a_v;
         let beta = hu * self.b_nu + hv * self.b_nv;
         let gamma = hu * self.c_nu + hv * self.c_nv;
-        if !(beta >= 0.0 && gamma >= 0.0 && beta + gamma <= 1.0) {
+        if !(beta >= -EDGE_EPSILON && gamma >= -EDGE_EPSILON && beta + gamma <= 1.0 + EDGE_EPSILON) {
             return false;
         }
         hit.record(t, prim, beta, gamma);
@@ -187,8 +193,8 @@ impl Intersect for Triangle {
         let hv = o.axis(kv) + t * d.axis(kv) - F::splat(self.a_v);
         let beta = hu * F::splat(self.b_nu) + hv * F::splat(self.b_nv);
         let gamma = hu * F::splat(self.c_nu) + hv * F::splat(self.c_nv);
-        let zero = F::splat(0.0);
-        mask = mask & beta.ge(zero) & gamma.ge(zero) & (beta + gamma).le(F::splat(1.0));
+        let low = F::splat(-EDGE_EPSILON);
+        mask = mask & beta.ge(low) & gamma.ge(low) & (beta + gamma).le(F::splat(1.0 + EDGE_EPSILON));
         hits.record(mask, t, prim, beta, gamma);
     }
 }
