@@ -17,7 +17,7 @@ use crate::render::tiles::{self, Tile};
 use crate::render::whitted::lanes;
 use crate::render::{Block, Grid, KernelKind, Packet8Kernel, Sampling, ScalarKernel, for_each_block};
 
-/// A kernel, pixel block and thread count to measure.
+/// A kernel, pixel block and thread count to measure. 16 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Variant {
     /// Kernel.
@@ -28,7 +28,7 @@ pub struct Variant {
     pub threads: usize,
 }
 
-/// The timing of one variant.
+/// The timing of one variant. 48 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct Timing {
     /// What was measured.
@@ -51,6 +51,7 @@ impl Timing {
 }
 
 /// The primary rays of one frame: the camera's grid cut into tiles.
+/// 104 bytes plus 16 bytes per tile.
 #[derive(Clone, Debug)]
 pub struct PrimaryFrame {
     grid: Grid,

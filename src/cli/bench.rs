@@ -220,7 +220,7 @@ pub struct SceneArgs {
     /// Tile edge in pixels.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub tile: u32,
-    /// Image size WxH (default: the scene camera's).
+    /// Image size WxH (default: the scene camera's; the fields of view stay the scene's).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
     /// Timed runs per variant (the best is kept).

@@ -48,7 +48,7 @@ pub struct Args {
     /// Maximum ray depth in whitted mode (the eye ray is depth 1).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub depth: u32,
-    /// Image size WxH (default: the scene camera's).
+    /// Image size WxH (default: the scene camera's; the fields of view stay the scene's).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
     /// Put a heat map of the time per tile beside the image.

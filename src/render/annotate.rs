@@ -33,7 +33,7 @@ const INK: Rgb<u8> = Rgb([230, 230, 230]);
 /// Legend labels ticks: fractions of the scale that get a label.
 const TICKS: [f64; 3] = [1.0, 0.5, 0.0];
 
-/// Per-tile times to show as a heat map.
+/// Per-tile times to show as a heat map. 32 bytes (two borrowed slices).
 #[derive(Clone, Copy, Debug)]
 pub struct HeatMap<'a> {
     /// The tiles (in image pixels).

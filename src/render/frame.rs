@@ -5,6 +5,7 @@ use glam::Vec3;
 use image::RgbImage;
 
 /// A rendered image in linear RGB with its primary-ray hit records, row-major.
+/// 80 bytes plus 20 bytes per pixel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
     /// Width in pixels (rays per row).

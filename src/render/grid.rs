@@ -6,7 +6,7 @@ use crate::ray::Ray;
 use crate::render::kernel::{BATCH, Rays};
 use crate::render::{Block, Sampling, Tile};
 
-/// The primary rays of a camera at pixel centres or corners.
+/// The primary rays of a camera at pixel centres or corners. 76 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct Grid {
     camera: Camera,

@@ -33,7 +33,8 @@ pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     Some((eta * d + (eta * cos_i - cos_t) * n).normalize())
 }
 
-/// A secondary ray a surface spawns: its direction and the weight its colour is added with.
+/// A secondary ray a surface spawns: its direction and the weight its colour is
+/// added with. 16 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Secondary {
     /// Unit direction.
@@ -42,7 +43,7 @@ pub struct Secondary {
     pub weight: f32,
 }
 
-/// The secondary rays of one hit under Whitted's rules.
+/// The secondary rays of one hit under Whitted's rules. 40 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Scatter {
     /// Mirror reflection, when Ks > 0 or the refraction is totally reflected.

@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use tempfile::NamedTempFile;
 
 /// An output file that cannot be written, naming the path and the reason.
+/// 48 bytes plus the strings.
 #[derive(Debug, thiserror::Error)]
 #[error("cannot write {}: {reason}", path.display())]
 pub struct OutputError {
@@ -32,7 +33,7 @@ impl OutputError {
 }
 
 /// A file being written: create it before the work (so an unwritable path fails
-/// at once), [`commit`](AtomicFile::commit) the bytes after.
+/// at once), [`commit`](AtomicFile::commit) the bytes after. 56 bytes plus the paths.
 #[derive(Debug)]
 pub struct AtomicFile {
     path: PathBuf,

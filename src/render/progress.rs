@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 /// How long a render runs before its bar appears.
 const DELAY: Duration = Duration::from_secs(1);
 
-/// Tile progress of one render.
+/// Tile progress of one render. 48 bytes (the bar itself is shared on the heap).
 #[derive(Debug)]
 pub struct Progress {
     bar: ProgressBar,

@@ -6,7 +6,8 @@ use std::collections::BTreeMap;
 use crate::render::{Block, KernelKind, Mode, RayCounts, Render};
 use crate::scene::Scene;
 
-/// Everything a reader needs to interpret a render's timing.
+/// Everything a reader needs to interpret a render's timing. 272 bytes plus
+/// its strings, map and per-tile times.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct RenderReport {
     /// Scene file (or generator) name.
@@ -53,7 +54,7 @@ pub struct RenderReport {
     pub tiles: TileTimes,
 }
 
-/// Per-tile CPU times, row-major (the heat map's data).
+/// Per-tile CPU times, row-major (the heat map's data). 56 bytes plus 8 per tile.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct TileTimes {
     /// Tiles per row.
@@ -70,7 +71,7 @@ pub struct TileTimes {
     pub ms: Vec<f64>,
 }
 
-/// How a render was set up, besides its settings.
+/// How a render was set up, besides its settings. 56 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct RunInfo {
     /// Kernel.

@@ -89,7 +89,7 @@ pub enum Sampling {
     PixelCorners,
 }
 
-/// How to render.
+/// How to render. 12 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
     /// What a pixel shows.

@@ -6,7 +6,7 @@ use glam::Vec3;
 use crate::ray::{Hit, Ray};
 use crate::scene::{Material, Scene};
 
-/// The surface at a ray's nearest hit. 48 bytes.
+/// The surface at a ray's nearest hit. 40 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct Surface<'a> {
     /// Hit point `origin + t·dir`.
