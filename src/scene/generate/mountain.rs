@@ -57,14 +57,7 @@ pub fn primitive_count(size: u32) -> u64 {
 /// Write the scene for size factor `size` and mountain number `mountain`.
 pub fn write<W: Write>(size: u32, mountain: u64, out: &mut NffWriter<W>) -> io::Result<()> {
     out.background(SKY_BLUE)?;
-    out.view(&View {
-        from: DVec3::new(-1.6, 1.6, 1.7),
-        at: DVec3::ZERO,
-        up: DVec3::Z,
-        angle: 45.0,
-        hither: 0.01,
-        resolution: [512, 512],
-    })?;
+    out.view(&View::towards_origin(DVec3::new(-1.6, 1.6, 1.7)))?;
     out.light(DVec3::new(-100.0, -100.0, 100.0))?;
     // Clear crystal: mostly transmitting, a little mirror, a sharp highlight.
     out.surface(&Surface {
@@ -76,14 +69,7 @@ pub fn write<W: Write>(size: u32, mountain: u64, out: &mut NffWriter<W>) -> io::
         ior: 1.5,
     })?;
     crystal_pyramid(out, DVec3::new(-0.8, 0.8, 1.0), 0.17)?;
-    out.surface(&Surface {
-        color: DVec3::new(0.5, 0.45, 0.35),
-        kd: 1.0,
-        ks: 0.0,
-        shine: phong_exponent(0.0),
-        transmittance: 0.0,
-        ior: 1.0,
-    })?;
+    out.surface(&Surface::matte(DVec3::new(0.5, 0.45, 0.35)))?;
     let level = size + 2;
     let cells = 1u32 << level;
     // Carpenter's roughness for the fractal dimension: the offset scale that

@@ -25,6 +25,21 @@ pub struct View {
     pub resolution: [u32; 2],
 }
 
+impl View {
+    /// The SPD's usual camera: from `from` towards the origin, z up, a 45° view,
+    /// hither 0.01, 512×512.
+    pub fn towards_origin(from: DVec3) -> Self {
+        Self {
+            from,
+            at: DVec3::ZERO,
+            up: DVec3::Z,
+            angle: 45.0,
+            hither: 0.01,
+            resolution: [512, 512],
+        }
+    }
+}
+
 /// The surface of an NFF `f` entity. 64 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Surface {
@@ -40,6 +55,20 @@ pub struct Surface {
     pub transmittance: f64,
     /// Index of refraction.
     pub ior: f64,
+}
+
+impl Surface {
+    /// A fully diffuse, opaque surface of `color` with no highlight.
+    pub fn matte(color: DVec3) -> Self {
+        Self {
+            color,
+            kd: 1.0,
+            ks: 0.0,
+            shine: phong_exponent(0.0),
+            transmittance: 0.0,
+            ior: 1.0,
+        }
+    }
 }
 
 /// The Phong exponent whose highlight falls to half strength `half_angle`

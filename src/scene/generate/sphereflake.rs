@@ -29,14 +29,7 @@ pub fn primitive_count(size: u32) -> u64 {
 /// Write the scene for size factor `size`.
 pub fn write<W: Write>(size: u32, out: &mut NffWriter<W>) -> io::Result<()> {
     out.background(SKY_BLUE)?;
-    out.view(&View {
-        from: DVec3::new(2.1, 1.3, 1.7),
-        at: DVec3::ZERO,
-        up: DVec3::Z,
-        angle: 45.0,
-        hither: 0.01,
-        resolution: [512, 512],
-    })?;
+    out.view(&View::towards_origin(DVec3::new(2.1, 1.3, 1.7)))?;
     for light in [[4.0, 3.0, 2.0], [1.0, -4.0, 4.0], [-3.0, 1.0, 5.0]] {
         out.light(DVec3::from_array(light))?;
     }

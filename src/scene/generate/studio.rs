@@ -14,14 +14,7 @@ pub fn write<W: Write>(out: &mut NffWriter<W>) -> io::Result<()> {
     out.background(SKY_BLUE)?;
     // At distance 4.8 a 45° view is 2·4.8·tan(22.5°) ≈ 4 wide: the cube's
     // circumscribed sphere (radius √3) fits.
-    out.view(&View {
-        from: 1.6 * DVec3::new(2.1, 1.3, 1.7),
-        at: DVec3::ZERO,
-        up: DVec3::Z,
-        angle: 45.0,
-        hither: 0.01,
-        resolution: [512, 512],
-    })?;
+    out.view(&View::towards_origin(1.6 * DVec3::new(2.1, 1.3, 1.7)))?;
     for light in [[4.0, 3.0, 2.0], [1.0, -4.0, 4.0], [-3.0, 1.0, 5.0]] {
         out.light(2.0 * DVec3::from_array(light))?;
     }

@@ -11,7 +11,7 @@ use std::io::{self, Write};
 use glam::DVec3;
 
 use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View, phong_exponent};
+use super::nff_writer::{NffWriter, Surface, View};
 use crate::rng::Rng;
 
 /// Offset amplitude of the first level, in height units.
@@ -28,23 +28,9 @@ pub fn primitive_count(level: u32) -> u64 {
 /// Write the terrain of `level` grown with `seed`.
 pub fn write<W: Write>(level: u32, seed: u64, out: &mut NffWriter<W>) -> io::Result<()> {
     out.background(SKY_BLUE)?;
-    out.view(&View {
-        from: DVec3::new(-1.6, 1.6, 1.7),
-        at: DVec3::ZERO,
-        up: DVec3::Z,
-        angle: 45.0,
-        hither: 0.01,
-        resolution: [512, 512],
-    })?;
+    out.view(&View::towards_origin(DVec3::new(-1.6, 1.6, 1.7)))?;
     out.light(DVec3::new(-100.0, -100.0, 100.0))?;
-    out.surface(&Surface {
-        color: DVec3::new(0.45, 0.5, 0.35),
-        kd: 1.0,
-        ks: 0.0,
-        shine: phong_exponent(0.0),
-        transmittance: 0.0,
-        ior: 1.0,
-    })?;
+    out.surface(&Surface::matte(DVec3::new(0.45, 0.5, 0.35)))?;
     let n = 1usize << level;
     let heights = diamond_square(n, &mut Rng::new(seed));
     let point = |x: usize, y: usize| {

@@ -14,7 +14,7 @@ use std::io::{self, Write};
 use glam::DVec3;
 
 use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View, phong_exponent};
+use super::nff_writer::{NffWriter, Surface, View};
 
 /// The corners of the tetrahedron in the cube `[−1, 1]³`: the cube corners whose
 /// coordinate signs multiply to +1, in x-major order.
@@ -45,14 +45,7 @@ pub fn write<W: Write>(size: u32, out: &mut NffWriter<W>) -> io::Result<()> {
         resolution: [512, 512],
     })?;
     out.light(DVec3::new(2.0, -18.0, -5.0))?;
-    out.surface(&Surface {
-        color: DVec3::new(1.0, 0.2, 0.2),
-        kd: 1.0,
-        ks: 0.0,
-        shine: phong_exponent(0.0),
-        transmittance: 0.0,
-        ior: 1.0,
-    })?;
+    out.surface(&Surface::matte(DVec3::new(1.0, 0.2, 0.2)))?;
     subdivide(out, size + 2, DVec3::ZERO, 1.0)
 }
 
