@@ -156,21 +156,17 @@ impl<F: SimdFloat> HitPacket<F> {
         }
     }
 
-    /// Overwrite the record of lane `i`.
+    /// Overwrite the record of lane `i` (by blends, not through memory: a
+    /// vector reloaded right after a scalar store into it stalls).
+    #[inline]
     pub fn set_hit(&mut self, i: usize, hit: &Hit) {
-        fn set<F: SimdFloat>(x: &mut F, i: usize, value: f32) {
-            let mut a = x.to_array();
-            a.as_mut()[i] = value;
-            *x = F::from_array(a);
-        }
-        set(&mut self.t, i, hit.t);
-        set(&mut self.u, i, hit.u);
-        set(&mut self.v, i, hit.v);
-        set(&mut self.ng.x, i, hit.ng.x);
-        set(&mut self.ng.y, i, hit.ng.y);
-        set(&mut self.ng.z, i, hit.ng.z);
-        let mut prim = self.prim.to_array();
-        prim.as_mut()[i] = hit.prim;
-        self.prim = F::U32::from_array(prim);
+        let lane = F::mask_from_bits(1 << i);
+        self.t = lane.select(F::splat(hit.t), self.t);
+        self.u = lane.select(F::splat(hit.u), self.u);
+        self.v = lane.select(F::splat(hit.v), self.v);
+        self.ng.x = lane.select(F::splat(hit.ng.x), self.ng.x);
+        self.ng.y = lane.select(F::splat(hit.ng.y), self.ng.y);
+        self.ng.z = lane.select(F::splat(hit.ng.z), self.ng.z);
+        self.prim = F::U32::select(lane, F::U32::splat(hit.prim), self.prim);
     }
 }

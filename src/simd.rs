@@ -198,13 +198,10 @@ macro_rules! impl_simd_float {
             }
             #[inline(always)]
             fn mask_from_bits(bits: u32) -> Self {
-                let mut lanes = [0.0f32; $n];
-                for (i, lane) in lanes.iter_mut().enumerate() {
-                    if bits >> i & 1 == 1 {
-                        *lane = f32::from_bits(u32::MAX);
-                    }
-                }
-                $f::new(lanes)
+                // Lane i keeps bit i of `bits`, then a compare widens it to the
+                // whole lane (in registers: no stores and reloads).
+                let lane_bits = $u::new(std::array::from_fn(|i| 1u32 << i));
+                wide::bytemuck::cast(($u::splat(bits) & lane_bits).simd_eq(lane_bits))
             }
             #[inline(always)]
             fn to_u32_mask(self) -> $u {

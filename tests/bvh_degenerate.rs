@@ -6,7 +6,7 @@
 mod bvh_support;
 
 use glam::{Mat4, Vec3};
-use raypack::accel::bvh::{BuildOptions, STACK_SIZE};
+use raypack::accel::bvh::{BuildOptions, MAX_DEPTH};
 use raypack::accel::{Accel, BruteForce, Bvh};
 use raypack::bench::scenes;
 use raypack::geometry::plane::Plane;
@@ -173,7 +173,7 @@ fn unbalanced_scene_stays_within_the_stack() {
         .collect();
     let bvh = Bvh::new(&prims);
     let depth = bvh.info().max_depth;
-    assert!(depth < STACK_SIZE, "depth {depth}");
+    assert!(depth <= MAX_DEPTH, "depth {depth}");
     let mut rays = Vec::new();
     let mut rng = Rng::new(4);
     for k in 0..400 {

@@ -33,12 +33,22 @@ const EDGE_EPSILON: f32 = 1.0 / (1 << 20) as f32;
 /// Dropped-axis value marking a zero-area triangle, which every ray misses.
 const DEGENERATE: u32 = 3;
 
-/// A triangle: its vertices, and its projected-barycentric constants.
-/// 80 bytes (36 of vertices, 44 of constants).
+/// A triangle: its vertices, its projected-barycentric constants and the scale
+/// of its normal. 80 bytes (36 of vertices, 40 of constants, 4 of scale).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
     /// Vertices `a, b, c` as given.
     vertices: [Vec3; 3],
+    /// What the kernels read.
+    projected: ProjectedTriangle,
+    /// Scale of the unit normal: `n_k / |n|` (its sign fixes the orientation).
+    n_scale: f32,
+}
+
+/// The constants of the projected barycentric test, all the kernels read: a
+/// BVH leaf stores these alone (Wald's layout, 40 bytes with no padding).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProjectedTriangle {
     /// Dominant normal axis `k` (dropped in the projection), or [`DEGENERATE`].
     k: u32,
     /// `n_ku / n_k`.
@@ -59,8 +69,22 @@ pub struct Triangle {
     c_nu: f32,
     /// See `c_nu`.
     c_nv: f32,
-    /// Scale of the unit normal: `n_k / |n|` (its sign fixes the orientation).
-    n_scale: f32,
+}
+
+impl ProjectedTriangle {
+    /// The constants of a zero-area triangle, which every ray misses.
+    const ZERO_AREA: ProjectedTriangle = ProjectedTriangle {
+        k: DEGENERATE,
+        n_u: 0.0,
+        n_v: 0.0,
+        n_d: 0.0,
+        a_u: 0.0,
+        a_v: 0.0,
+        b_nu: 0.0,
+        b_nv: 0.0,
+        c_nu: 0.0,
+        c_nv: 0.0,
+    };
 }
 
 impl Triangle {
@@ -86,33 +110,31 @@ impl Triangle {
         if degenerate {
             return Self {
                 vertices: [a, b, c],
-                k: DEGENERATE,
-                n_u: 0.0,
-                n_v: 0.0,
-                n_d: 0.0,
-                a_u: 0.0,
-                a_v: 0.0,
-                b_nu: 0.0,
-                b_nv: 0.0,
-                c_nu: 0.0,
-                c_nv: 0.0,
+                projected: ProjectedTriangle::ZERO_AREA,
                 n_scale: 0.0,
             };
         }
         Self {
             vertices: [a, b, c],
-            k: k as u32,
-            n_u: n[ku] / nk,
-            n_v: n[kv] / nk,
-            n_d: n.dot(a) / nk,
-            a_u: a[ku],
-            a_v: a[kv],
-            b_nu: e2[kv] / det,
-            b_nv: -e2[ku] / det,
-            c_nu: -e1[kv] / det,
-            c_nv: e1[ku] / det,
+            projected: ProjectedTriangle {
+                k: k as u32,
+                n_u: n[ku] / nk,
+                n_v: n[kv] / nk,
+                n_d: n.dot(a) / nk,
+                a_u: a[ku],
+                a_v: a[kv],
+                b_nu: e2[kv] / det,
+                b_nv: -e2[ku] / det,
+                c_nu: -e1[kv] / det,
+                c_nv: e1[ku] / det,
+            },
             n_scale: nk / n.length(),
         }
+    }
+
+    /// The constants the kernels read.
+    pub fn projected(&self) -> &ProjectedTriangle {
+        &self.projected
     }
 
     /// Vertices `a, b, c`.
@@ -127,7 +149,7 @@ impl Triangle {
 
     /// True for a zero-area triangle.
     pub fn is_degenerate(&self) -> bool {
-        self.k == DEGENERATE
+        self.projected.k == DEGENERATE
     }
 
     /// Unit geometric normal `(b − a) × (c − a) / |…|` (zero for a degenerate triangle).
@@ -135,16 +157,29 @@ impl Triangle {
         if self.is_degenerate() {
             return Vec3::ZERO;
         }
-        let k = self.k as usize;
+        let p = &self.projected;
+        let k = p.k as usize;
         let mut n = Vec3::ZERO;
         n[k] = 1.0;
-        n[(k + 1) % 3] = self.n_u;
-        n[(k + 2) % 3] = self.n_v;
+        n[(k + 1) % 3] = p.n_u;
+        n[(k + 2) % 3] = p.n_v;
         n.normalize() * self.n_scale.signum()
     }
 }
 
 impl Intersect for Triangle {
+    #[inline(always)]
+    fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
+        self.projected.intersect(ray, prim, hit)
+    }
+
+    #[inline(always)]
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
+        self.projected.intersect_packet(rays, prim, hits);
+    }
+}
+
+impl Intersect for ProjectedTriangle {
     /// Scalar kernel.
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {

@@ -15,7 +15,7 @@
 //! halves are built, on two rayon tasks when the node is large. Where binning
 //! cannot separate the primitives (all centroids in one point) or the tree grows
 //! too deep, the node is split at the median centroid instead, which bounds the
-//! depth by [`SAH_DEPTH_LIMIT`] + 32.
+//! depth by [`MAX_DEPTH`].
 
 use glam::{Vec3, Vec3A};
 
@@ -53,6 +53,10 @@ const MAX_BINS: usize = 32;
 
 /// Depth from which nodes are split at the median instead of by the SAH.
 pub const SAH_DEPTH_LIMIT: usize = 60;
+
+/// No leaf is deeper than this: SAH splits down to [`SAH_DEPTH_LIMIT`], then at
+/// most 32 levels of median splits of a `u32` count of primitives.
+pub const MAX_DEPTH: usize = SAH_DEPTH_LIMIT + 32;
 
 /// Nodes with at least this many primitives build their two children in parallel.
 const PARALLEL_MIN: usize = 4096;

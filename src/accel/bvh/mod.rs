@@ -1,10 +1,12 @@
 //! A bounding volume hierarchy over a scene's bounded primitives, built as a
-//! binary tree with binned SAH ([`build_sah`]) and kept in two node layouts over
-//! the same leaves: binary nodes ([`node`]) that 8-ray packets traverse
-//! ([`traverse_packet`]), and the tree collapsed to 4-wide nodes ([`wide`]) that
-//! single rays traverse with one SIMD test per four boxes ([`traverse_single`]
-//! holds the queries); shadow rays use either ([`occlusion`]). Leaves call the
-//! primitives' own kernels.
+//! binary tree of 32-byte nodes with binned SAH ([`build_sah`], [`node`]) and
+//! also collapsed into 4-wide nodes ([`wide`]) over the same leaves. 8-ray
+//! packets traverse the binary tree ([`traverse_packet`]: testing a packet
+//! against each box as soon as the tree branches culls more than four boxes at
+//! once would), single rays the wide tree ([`traverse_single`], one SIMD test
+//! per four boxes), and so do the packet lanes left alone deep in the tree;
+//! shadow rays use either ([`occlusion`]). Leaves call the primitives' own
+//! kernels.
 //!
 //! Primitives without a finite box (infinite planes, and anything whose box
 //! overflows) are kept outside the tree and tested directly by every ray;
@@ -35,16 +37,16 @@
 //! [`BruteForce`]: crate::accel::BruteForce
 
 pub mod build_sah;
+pub mod leaf;
 pub mod node;
 pub mod occlusion;
 pub mod ray_box;
+pub mod stack;
 pub mod traverse_packet;
 pub mod traverse_single;
 pub mod wide;
 
-use rayon::prelude::*;
-
-pub use build_sah::BuildOptions;
+pub use build_sah::{BuildOptions, MAX_DEPTH};
 
 use crate::accel::Accel;
 use crate::accel::stats::{AccelWithStats, NoStats, TraversalStats};
@@ -53,11 +55,8 @@ use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
+use leaf::LeafPrim;
 use node::{Node, NodeId, NodePair, ROOT};
-
-/// Traversal stack entries: above the deepest tree the builder makes
-/// ([`build_sah::SAH_DEPTH_LIMIT`] levels of SAH splits, then at most 32 of median splits).
-pub const STACK_SIZE: usize = build_sah::SAH_DEPTH_LIMIT + 40;
 
 /// A BVH (binary nodes for packets, 4-wide nodes for single rays) owning a
 /// reordered copy of the primitives it holds.
@@ -65,12 +64,14 @@ pub const STACK_SIZE: usize = build_sah::SAH_DEPTH_LIMIT + 40;
 pub struct Bvh {
     /// Node pairs; the root is node [`ROOT`] (pair 0, side 0).
     pairs: Vec<NodePair>,
-    /// The same tree collapsed to 4-wide nodes, for single rays.
+    /// The same tree collapsed to 4-wide nodes, which single rays traverse.
     wide: Vec<wide::WideNode>,
+    /// Per binary node, the wide node made from it (see [`wide::Collapsed::twin`]).
+    wide_twin: Vec<u32>,
     /// Bounded primitives in leaf order (a leaf is a contiguous run).
-    prims: Vec<Primitive>,
-    /// Input index of each of `prims`.
-    prim_ids: Vec<u32>,
+    prims: Vec<LeafPrim>,
+    /// The primitives `prims` refers to rather than holds (see [`leaf`]).
+    others: Vec<Primitive>,
     /// Primitives tested by every ray (no finite box).
     unbounded: Vec<Primitive>,
     /// Input index of each of `unbounded`.
@@ -132,18 +133,26 @@ impl Bvh {
             let built = build_sah::build(&boxes, options);
             (built.pairs, built.order)
         };
-        let prim_ids: Vec<u32> = order.iter().map(|&k| bounded_ids[k as usize]).collect();
-        let prims = prim_ids.par_iter().map(|&i| prims[i as usize].clone()).collect();
+        let mut others = Vec::new();
+        let leaf_prims = order
+            .iter()
+            .map(|&k| {
+                let id = bounded_ids[k as usize];
+                LeafPrim::new(&prims[id as usize], id, &mut others)
+            })
+            .collect();
         let mut bvh = Self {
             pairs,
             wide: Vec::new(),
-            prims,
-            prim_ids,
+            wide_twin: Vec::new(),
+            prims: leaf_prims,
+            others,
             unbounded,
             unbounded_ids,
             skipped,
         };
-        bvh.wide = wide::collapse(&bvh);
+        let collapsed = wide::collapse(&bvh);
+        (bvh.wide, bvh.wide_twin) = (collapsed.nodes, collapsed.twin);
         bvh
     }
 
@@ -157,6 +166,38 @@ impl Bvh {
     #[inline(always)]
     pub fn pair(&self, pair: u32) -> &NodePair {
         &self.pairs[pair as usize]
+    }
+
+    /// Where a single ray can take over binary node `id` in the wide tree: the
+    /// wide node made from it, or the same leaf; None for a binary node opened
+    /// inside a wide node.
+    #[inline(always)]
+    pub fn wide_twin(&self, id: NodeId) -> Option<wide::ChildRef> {
+        let node = self.node(id);
+        if node.is_leaf() {
+            return Some(wide::ChildRef::leaf(node.first, node.meta));
+        }
+        match self.wide_twin[id as usize] {
+            u32::MAX => None,
+            at => Some(wide::ChildRef::inner(at)),
+        }
+    }
+
+    /// The scalar kernel of the primitive at leaf position `i`.
+    #[inline(always)]
+    pub fn intersect_leaf_prim(&self, i: usize, ray: &Ray, hit: &mut Hit) -> bool {
+        self.prims[i].intersect(&self.others, ray, hit)
+    }
+
+    /// The packet kernel of the primitive at leaf position `i`.
+    #[inline(always)]
+    pub fn intersect_leaf_prim_packet<F: SimdFloat>(
+        &self,
+        i: usize,
+        rays: &RayPacket<F>,
+        hits: &mut HitPacket<F>,
+    ) {
+        self.prims[i].intersect_packet(&self.others, rays, hits);
     }
 
     /// The (padded) box of the whole tree; empty when no primitive is bounded.
@@ -181,7 +222,9 @@ impl Bvh {
             sah_cost: 0.0,
             bytes: self.pairs.len() * size_of::<NodePair>()
                 + self.wide.len() * size_of::<wide::WideNode>()
-                + self.prims.len() * (size_of::<Primitive>() + size_of::<u32>()),
+                + self.wide_twin.len() * size_of::<u32>()
+                + self.prims.len() * size_of::<LeafPrim>()
+                + self.others.len() * size_of::<Primitive>(),
         };
         if self.prims.is_empty() {
             return info;

@@ -6,11 +6,10 @@
 use crate::accel::bvh::Bvh;
 use std::ops::Range;
 
-use crate::accel::bvh::node::{Node, NodeId};
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_packet::{PacketQuery, traverse_packet};
 use crate::accel::bvh::traverse_single::{RayQuery, traverse};
-use crate::accel::bvh::wide::traverse_wide;
+use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
 use crate::packet::{HitPacket, RayPacket};
@@ -34,7 +33,7 @@ impl RayQuery for AnyHit<'_> {
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool {
         prims.into_iter().any(|i| {
             stats.prim();
-            bvh.prims[i].intersect(self.ray, bvh.prim_ids[i], &mut self.hit)
+            bvh.intersect_leaf_prim(i, self.ray, &mut self.hit)
         })
     }
 }
@@ -56,7 +55,7 @@ pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
     if bvh.prims.is_empty() {
         return false;
     }
-    traverse_wide(bvh, &SlabRay::new(ray), &mut query, stats)
+    traverse(bvh, ChildRef::ROOT, &SlabRay::new(ray), &mut query, stats)
 }
 
 /// The any-hit query of a packet: occluded lanes leave the packet.
@@ -81,21 +80,21 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: &Node, mask: F, stats: &mut S) {
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, mask: F, stats: &mut S) {
         self.rays.active = mask & self.pending;
-        for i in leaf.prims() {
+        for i in prims {
             if self.rays.active.none() {
                 return;
             }
             stats.packet_prim(self.rays.active);
-            bvh.prims[i].intersect_packet(&self.rays, bvh.prim_ids[i], &mut self.hits);
+            bvh.intersect_leaf_prim_packet(i, &self.rays, &mut self.hits);
             let hit = self.hits.hit_mask();
             self.pending = self.pending.and_not(hit);
             self.rays.active = self.rays.active.and_not(hit);
         }
     }
 
-    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: NodeId, lane: usize, stats: &mut S) {
+    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S) {
         let ray = self.rays.ray(lane);
         let mut query = AnyHit {
             ray: &ray,

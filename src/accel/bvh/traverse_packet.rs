@@ -8,22 +8,35 @@
 //! - Children are visited near first by the packet's majority direction along the
 //!   node's split axis; a far child is pushed with its lanes' entry t, and lanes
 //!   whose hit has come closer than that are dropped when it is popped.
-//! - When no more than [`SINGLE_RAY_LANES`] lanes are left in a subtree, they
-//!   finish it as single rays, which is cheaper than dragging an empty packet along.
+//! - In an incoherent packet ([`is_coherent`]), when no more than
+//!   [`SINGLE_RAY_LANES`] lanes are left in a subtree that the 4-wide tree also
+//!   has (or a leaf), they finish it as single rays in the wide tree, which is
+//!   cheaper than dragging an almost empty packet along.
 //!
 //! One loop serves nearest-hit and any-hit queries ([`PacketQuery`]).
 
-use crate::accel::bvh::node::{Node, NodeId, ROOT};
+use std::ops::Range;
+
+use glam::Vec3;
+
+use crate::accel::bvh::Bvh;
+use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
+use crate::accel::bvh::stack::TraversalStack;
 use crate::accel::bvh::traverse_single::{Nearest, traverse};
-use crate::accel::bvh::{Bvh, STACK_SIZE};
+use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
 use crate::packet::{HitPacket, RayPacket};
 use crate::simd::SimdFloat;
 
-/// A subtree with this many lanes or fewer left is finished by single-ray traversal.
+/// In an incoherent packet, a subtree with this many lanes or fewer left is
+/// finished by single-ray traversal.
 pub const SINGLE_RAY_LANES: u32 = 2;
+
+/// Cosine of the widest angle (about 8°) between a lane's direction and the
+/// packet's mean direction for which a packet counts as coherent.
+pub const COHERENT_COS: f32 = 0.99;
 
 /// What a packet traversal does in leaves, and how far each lane looks.
 pub trait PacketQuery<F: SimdFloat> {
@@ -33,11 +46,11 @@ pub trait PacketQuery<F: SimdFloat> {
     /// The lanes still being traced.
     fn live(&self) -> F;
 
-    /// Test the primitives of `leaf` on the lanes of `mask`.
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: &Node, mask: F, stats: &mut S);
+    /// Test the leaf primitives `prims` on the lanes of `mask`.
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, mask: F, stats: &mut S);
 
-    /// Finish lane `lane` in the subtree under `start` as a single ray.
-    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: NodeId, lane: usize, stats: &mut S);
+    /// Finish lane `lane` in the subtree `start` of the wide tree as a single ray.
+    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S);
 }
 
 /// Bit `k` set when most active lanes point down axis `k`: the packet then
@@ -53,6 +66,33 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
     })
 }
 
+/// True when every active lane's direction lies within [`COHERENT_COS`] of the
+/// packet's mean direction, as for the primary rays of a pixel block or shadow
+/// rays from nearby points to one light. Such lanes stay together down to the
+/// leaves, where even one or two lanes finish a subtree as a packet faster than
+/// as single rays (measured on primary rays of the dragon: 1.5× faster with no
+/// fallback than with a fallback at 2 lanes), so coherent packets never fall
+/// back; incoherent ones (random rays: 1.2× faster with it) do.
+#[inline]
+pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
+    let sum = |d: F| {
+        rays.active
+            .select(d, F::splat(0.0))
+            .to_array()
+            .as_ref()
+            .iter()
+            .sum::<f32>()
+    };
+    let mean = Vec3::new(sum(rays.dir.x), sum(rays.dir.y), sum(rays.dir.z));
+    let d = &rays.dir;
+    let dot = d.x * F::splat(mean.x) + d.y * F::splat(mean.y) + d.z * F::splat(mean.z);
+    let length2 = d.x * d.x + d.y * d.y + d.z * d.z;
+    // dot ≥ cos·|d|·|mean|, squared (both sides non-negative).
+    let bound = F::splat(COHERENT_COS * COHERENT_COS * mean.length_squared());
+    let inside = dot.ge(F::splat(0.0)) & (dot * dot).ge(bound * length2);
+    (inside & rays.active).bitmask() == rays.active.bitmask()
+}
+
 /// Traverse the whole tree with the lanes of `query.live()`.
 #[inline]
 pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
@@ -66,24 +106,25 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     }
     let slab = SlabPacket::new(rays);
     let upper_first = majority_negative(rays);
+    let fallback_lanes = if is_coherent(rays) { 0 } else { SINGLE_RAY_LANES };
     let (root_mask, _) = slab.node_entry(bvh.node(ROOT), query.t_max());
     let mut mask = root_mask & query.live();
     if mask.none() {
         return;
     }
     // Far children still to visit, with their lanes' entry t (NaN in the other lanes).
-    let mut stack_ids = [0 as NodeId; STACK_SIZE];
-    let mut stack_t = [F::splat(0.0); STACK_SIZE];
-    let mut sp = 0;
+    let mut stack = TraversalStack::<(NodeId, F)>::new();
     let mut id = ROOT;
     loop {
         loop {
             let lanes = mask.bitmask();
-            if lanes.count_ones() <= SINGLE_RAY_LANES {
+            if lanes.count_ones() <= fallback_lanes
+                && let Some(start) = bvh.wide_twin(id)
+            {
                 stats.fallback(u64::from(lanes.count_ones()));
                 let mut bits = lanes;
                 while bits != 0 {
-                    query.finish_single(bvh, id, bits.trailing_zeros() as usize, stats);
+                    query.finish_single(bvh, start, bits.trailing_zeros() as usize, stats);
                     bits &= bits - 1;
                 }
                 break;
@@ -91,7 +132,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
             stats.packet_node(mask);
             let node = bvh.node(id);
             if node.is_leaf() {
-                query.leaf(bvh, node, mask, stats);
+                query.leaf(bvh, node.prims(), mask, stats);
                 break;
             }
             let [a, b] = node.children();
@@ -108,9 +149,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
                     } else {
                         (a, mask_a, b, mask_b, t_b)
                     };
-                    stack_ids[sp] = far;
-                    stack_t[sp] = far_mask.select(t_far, F::splat(f32::NAN));
-                    sp += 1;
+                    stack.push((far, far_mask.select(t_far, F::splat(f32::NAN))));
                     id = near;
                     mask = near_mask;
                 }
@@ -127,13 +166,15 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
         }
         // Pop the next far child some lane can still find a hit in.
         loop {
-            if sp == 0 || query.live().none() {
+            let Some((far, t_entry)) = stack.pop() else {
+                return;
+            };
+            if query.live().none() {
                 return;
             }
-            sp -= 1;
-            mask = stack_t[sp].le(query.t_max() * F::splat(FAR_SCALE)) & query.live();
+            mask = t_entry.le(query.t_max() * F::splat(FAR_SCALE)) & query.live();
             if mask.any() {
-                id = stack_ids[sp];
+                id = far;
                 break;
             }
         }
@@ -162,15 +203,15 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: &Node, mask: F, stats: &mut S) {
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, mask: F, stats: &mut S) {
         self.rays.active = mask;
-        for i in leaf.prims() {
+        for i in prims {
             stats.packet_prim(mask);
-            bvh.prims[i].intersect_packet(&self.rays, bvh.prim_ids[i], self.hits);
+            bvh.intersect_leaf_prim_packet(i, &self.rays, self.hits);
         }
     }
 
-    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: NodeId, lane: usize, stats: &mut S) {
+    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S) {
         let ray = self.rays.ray(lane);
         let mut hit = self.hits.hit(lane);
         let mut query = Nearest {
@@ -206,4 +247,43 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
     };
     traverse_packet(bvh, rays, &mut query, stats);
     hits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::packet::RayPacket8;
+    use crate::ray::Ray;
+    use crate::rng::Rng;
+
+    #[test]
+    fn pixel_blocks_are_coherent_and_random_rays_are_not() {
+        let camera = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 60.0, 60.0, 64, 64).unwrap();
+        let pixels: Vec<(u32, u32)> = (0..8).map(|k| (10 + k % 4, 20 + k / 4)).collect();
+        let block = camera.pixel_packet::<wide::f32x8>(&pixels);
+        assert!(is_coherent(&block));
+
+        let mut rng = Rng::new(3);
+        let random: Vec<Ray> = (0..8)
+            .map(|_| Ray::unbounded(Vec3::ZERO, rng.unit_vector()))
+            .collect();
+        assert!(!is_coherent(&RayPacket8::from_rays(&random)));
+
+        // Inactive lanes do not count; a NaN direction in an active lane breaks coherence.
+        let mut mixed = random.clone();
+        mixed[..4].copy_from_slice(&[Ray::unbounded(Vec3::ZERO, Vec3::Z); 4]);
+        assert!(is_coherent(&RayPacket8::from_rays_masked(&mixed, 0b1111)));
+        mixed[0].dir = Vec3::new(f32::NAN, 0.0, 1.0);
+        assert!(!is_coherent(&RayPacket8::from_rays_masked(&mixed, 0b1111)));
+        // Directions 10° apart are not coherent, 5° apart are.
+        let tilted = |deg: f32| {
+            let a = deg.to_radians();
+            let mut rays = [Ray::unbounded(Vec3::ZERO, Vec3::Z); 8];
+            rays[7].dir = Vec3::new(a.sin(), 0.0, a.cos());
+            RayPacket8::from_rays(&rays)
+        };
+        assert!(is_coherent(&tilted(5.0)));
+        assert!(!is_coherent(&tilted(10.0)));
+    }
 }

@@ -1,15 +1,14 @@
-//! Single-ray traversal of the binary tree: depth first, nearer child first,
-//! culling by the current hit's t. One loop serves nearest-hit and any-hit
-//! queries ([`RayQuery`]); packet traversal finishes the lanes it leaves alone
-//! with it. Rays traced on their own start in the 4-wide view instead
-//! ([`wide::traverse_wide`](super::wide::traverse_wide)), with the same queries.
+//! Single-ray traversal of the 4-wide tree: depth first, children met pushed in
+//! order of entry t so the nearest is visited next, culling by the current hit's
+//! t. One loop serves nearest-hit and any-hit queries ([`RayQuery`]); packet
+//! traversal finishes the lanes it leaves alone with it.
 
 use std::ops::Range;
 
-use crate::accel::bvh::node::NodeId;
+use crate::accel::bvh::Bvh;
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
-use crate::accel::bvh::wide::traverse_wide;
-use crate::accel::bvh::{Bvh, STACK_SIZE};
+use crate::accel::bvh::stack::TraversalStack;
+use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
 use crate::ray::{Hit, Ray};
@@ -23,61 +22,62 @@ pub trait RayQuery {
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool;
 }
 
-/// Traverse the subtree under `start` (whose box the ray is known to meet);
-/// returns true if the query ended the traversal early.
+/// Traverse the subtree under `start` (whose box the ray is known to meet, or
+/// [`ChildRef::ROOT`]); returns true if the query ended the traversal early.
 #[inline]
 pub fn traverse<Q: RayQuery, S: Counter>(
     bvh: &Bvh,
-    start: NodeId,
+    start: ChildRef,
     slab: &SlabRay,
     query: &mut Q,
     stats: &mut S,
 ) -> bool {
-    // Far children still to visit, with their entry t for culling when popped.
-    let mut stack = [(0 as NodeId, 0.0f32); STACK_SIZE];
-    let mut sp = 0;
-    let mut id = start;
+    // Children still to visit, with their entry t.
+    let mut stack = TraversalStack::<(ChildRef, f32)>::new();
+    let mut next = start;
     loop {
-        let node = bvh.node(id);
         stats.node();
-        if node.is_leaf() {
-            if query.leaf(bvh, node.prims(), stats) {
+        if next.is_leaf() {
+            if query.leaf(bvh, next.prims(), stats) {
                 return true;
             }
         } else {
-            // Test both children's boxes (one cache line), descend into the nearer.
-            let [a, b] = node.children();
-            let [box_a, box_b] = &bvh.pair(node.first).0;
-            let t_max = query.t_max();
-            match (slab.node_entry(box_a, t_max), slab.node_entry(box_b, t_max)) {
-                (Some(ta), Some(tb)) => {
-                    let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
-                    stack[sp] = (far, t_far);
-                    sp += 1;
-                    id = near;
+            // Test the four children's boxes at once. One child met: descend
+            // into it directly. More: push them sorted by decreasing entry t
+            // (insertion), so the nearest is popped next.
+            let node = &bvh.wide[next.node()];
+            let (mut bits, t) = node.entry(slab, query.t_max());
+            if bits.count_ones() == 1 {
+                if let Some(child) = node.child(bits.trailing_zeros() as usize) {
+                    next = child;
                     continue;
                 }
-                (Some(_), None) => {
-                    id = a;
+                bits = 0; // a NaN ray can "meet" an empty box
+            }
+            let base = stack.len();
+            while bits != 0 {
+                let i = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let Some(child) = node.child(i) else {
                     continue;
+                };
+                stack.push((child, t[i]));
+                let run = &mut stack.as_mut_slice()[base..];
+                let mut k = run.len() - 1;
+                while k > 0 && run[k - 1].1 < run[k].1 {
+                    run.swap(k - 1, k);
+                    k -= 1;
                 }
-                (None, Some(_)) => {
-                    id = b;
-                    continue;
-                }
-                (None, None) => {}
             }
         }
-        // Pop the next far child the current hit has not put out of reach
-        // (entry t equal to the hit's t stays: the tie rule may still prefer it).
+        // Pop the next child the current hit has not put out of reach (entry t
+        // equal to the hit's t stays: the tie rule may still prefer it).
         loop {
-            if sp == 0 {
+            let Some((child, t_entry)) = stack.pop() else {
                 return false;
-            }
-            sp -= 1;
-            let (next, t_entry) = stack[sp];
+            };
             if t_entry <= query.t_max() * FAR_SCALE {
-                id = next;
+                next = child;
                 break;
             }
         }
@@ -102,7 +102,7 @@ impl RayQuery for Nearest<'_> {
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool {
         for i in prims {
             stats.prim();
-            bvh.prims[i].intersect(self.ray, bvh.prim_ids[i], self.hit);
+            bvh.intersect_leaf_prim(i, self.ray, self.hit);
         }
         false
     }
@@ -121,6 +121,12 @@ pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
         return hit;
     }
     let slab = SlabRay::new(ray);
-    traverse_wide(bvh, &slab, &mut Nearest { ray, hit: &mut hit }, stats);
+    traverse(
+        bvh,
+        ChildRef::ROOT,
+        &slab,
+        &mut Nearest { ray, hit: &mut hit },
+        stats,
+    );
     hit
 }

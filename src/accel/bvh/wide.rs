@@ -4,18 +4,64 @@
 //! kernel framework for efficient CPU ray tracing", SIGGRAPH 2014). It is made
 //! by collapsing the binary tree (each wide node takes a binary node and opens
 //! its largest inner children until it has four), so both trees share leaves
-//! and primitive order; packets keep traversing the binary tree.
+//! and primitive order; packets traverse the binary tree, and hand lanes they
+//! leave alone to the wide tree at the wide node made from the binary node
+//! they are at.
 
-use smallvec::SmallVec;
+use std::ops::Range;
+
 use wide::f32x4;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
-use crate::accel::bvh::traverse_single::RayQuery;
-use crate::accel::stats::Counter;
 use crate::bounds::Aabb;
 use crate::simd::SimdFloat;
+
+/// What a child slot of a wide node leads to: an inner wide node, or a leaf's
+/// run of primitives. 8 bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ChildRef {
+    /// Inner: index of the wide node. Leaf: first primitive in leaf order.
+    index: u32,
+    /// 0 for an inner node, else the leaf's primitive count.
+    count: u32,
+}
+
+impl ChildRef {
+    /// Wide node 0, which holds the root's children (or the root leaf).
+    pub const ROOT: ChildRef = ChildRef { index: 0, count: 0 };
+
+    /// The wide node `index`.
+    #[inline(always)]
+    pub fn inner(index: u32) -> Self {
+        Self { index, count: 0 }
+    }
+
+    /// The leaf of `count` primitives from `first` on.
+    #[inline(always)]
+    pub fn leaf(first: u32, count: u32) -> Self {
+        Self { index: first, count }
+    }
+
+    /// True for a leaf.
+    #[inline(always)]
+    pub fn is_leaf(self) -> bool {
+        self.count != 0
+    }
+
+    /// Inner: the wide node's index.
+    #[inline(always)]
+    pub fn node(self) -> usize {
+        self.index as usize
+    }
+
+    /// Leaf: its primitives' positions in leaf order.
+    #[inline(always)]
+    pub fn prims(self) -> Range<usize> {
+        self.index as usize..(self.index + self.count) as usize
+    }
+}
 
 /// Up to four children's (padded) boxes in structure-of-arrays form, and what
 /// each child is. 96 bytes of boxes + 32 of slots = 128 bytes, two cache lines.
@@ -41,7 +87,17 @@ impl WideNode {
         count: [EMPTY_SLOT; 4],
     };
 
+    /// What child `i` leads to; None for an empty slot.
+    #[inline(always)]
+    pub fn child(&self, i: usize) -> Option<ChildRef> {
+        (self.count[i] != EMPTY_SLOT).then_some(ChildRef {
+            index: self.index[i],
+            count: self.count[i],
+        })
+    }
+
     /// The box of child `i` (empty for an empty slot).
+    #[inline(always)]
     pub fn child_bounds(&self, i: usize) -> Aabb {
         let b = &self.bounds;
         Aabb::new(
@@ -68,18 +124,34 @@ impl WideNode {
     }
 }
 
-/// Collapse the binary tree of `bvh` into wide nodes; node 0 holds the root's
-/// children (or the root itself when it is a leaf; nothing for an empty tree).
-pub fn collapse(bvh: &Bvh) -> Vec<WideNode> {
-    let mut nodes = vec![WideNode::EMPTY];
+/// The wide tree: its nodes, and for each binary node the wide node made
+/// from it, if any.
+pub struct Collapsed {
+    /// Wide nodes; node 0 holds the root's children (or the root itself when
+    /// it is a leaf; nothing for an empty tree).
+    pub nodes: Vec<WideNode>,
+    /// Per binary [`NodeId`]: the index of the wide node holding its children,
+    /// or `u32::MAX` for leaves and for binary nodes opened inside a wide node.
+    pub twin: Vec<u32>,
+}
+
+/// Collapse the binary tree of `bvh` into wide nodes.
+pub fn collapse(bvh: &Bvh) -> Collapsed {
+    let mut out = Collapsed {
+        nodes: vec![WideNode::EMPTY],
+        twin: vec![u32::MAX; 2 * bvh.pairs.len()],
+    };
     if !bvh.prims.is_empty() {
-        fill(bvh, ROOT, 0, &mut nodes);
+        fill(bvh, ROOT, 0, &mut out);
     }
-    nodes
+    out
 }
 
 /// Fill wide node `at` with the binary subtree under `id`, depth first.
-fn fill(bvh: &Bvh, id: NodeId, at: usize, nodes: &mut Vec<WideNode>) {
+fn fill(bvh: &Bvh, id: NodeId, at: usize, out: &mut Collapsed) {
+    if !bvh.node(id).is_leaf() {
+        out.twin[id as usize] = at as u32;
+    }
     let area = |c: NodeId| {
         let n = bvh.node(c);
         Aabb::new(n.min, n.max).surface_area()
@@ -113,66 +185,15 @@ fn fill(bvh: &Bvh, id: NodeId, at: usize, nodes: &mut Vec<WideNode>) {
             node.index[i] = n.first;
             node.count[i] = n.meta;
         } else {
-            node.index[i] = nodes.len() as u32;
+            node.index[i] = out.nodes.len() as u32;
             node.count[i] = 0;
-            nodes.push(WideNode::EMPTY);
+            out.nodes.push(WideNode::EMPTY);
             inner.push((c, node.index[i] as usize));
         }
     }
-    nodes[at] = node;
+    out.nodes[at] = node;
     for (c, slot) in inner {
-        fill(bvh, c, slot, nodes);
-    }
-}
-
-/// Traverse the wide tree with `query`, nearest children first; returns true if
-/// the query ended the traversal early.
-#[inline]
-pub fn traverse_wide<Q: RayQuery, S: Counter>(
-    bvh: &Bvh,
-    slab: &SlabRay,
-    query: &mut Q,
-    stats: &mut S,
-) -> bool {
-    // Children still to visit as (index, count as in `WideNode::count`, entry t).
-    // The inline storage is left uninitialised (no per-ray memset) and spills to
-    // the heap only in trees deeper than any SAH build makes in practice.
-    let mut stack: SmallVec<[(u32, u32, f32); 64]> = SmallVec::new();
-    let (mut index, mut count) = (0u32, 0u32);
-    loop {
-        stats.node();
-        if count == 0 {
-            let node = &bvh.wide[index as usize];
-            let (mut bits, t) = node.entry(slab, query.t_max());
-            // Push the children met, keeping them sorted by decreasing entry t
-            // (insertion), so the nearest is popped next.
-            let base = stack.len();
-            while bits != 0 {
-                let i = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                if node.count[i] == EMPTY_SLOT {
-                    continue; // a NaN ray can "meet" an empty box
-                }
-                stack.push((node.index[i], node.count[i], t[i]));
-                let mut k = stack.len() - 1;
-                while k > base && stack[k - 1].2 < stack[k].2 {
-                    stack.swap(k - 1, k);
-                    k -= 1;
-                }
-            }
-        } else if query.leaf(bvh, index as usize..(index + count) as usize, stats) {
-            return true;
-        }
-        // Pop the next child the current hit has not put out of reach.
-        loop {
-            let Some((i, c, t_entry)) = stack.pop() else {
-                return false;
-            };
-            if t_entry <= query.t_max() * FAR_SCALE {
-                (index, count) = (i, c);
-                break;
-            }
-        }
+        fill(bvh, c, slot, out);
     }
 }
 
