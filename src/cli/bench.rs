@@ -250,6 +250,9 @@ pub struct SceneRow {
     pub median_mrays_per_s: f64,
     /// `mrays_per_s` over that of the first row (first engine, kernel, block and thread count).
     pub ratio: f64,
+    /// `mrays_per_s` over that of the same engine, kernel and block on the
+    /// fewest threads measured (1 by default): the thread scaling.
+    pub vs_fewest_threads: f64,
     /// raypack rows: `mrays_per_s` over Embree's on the same kernel width, block
     /// and threads in this run (when Embree was measured).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -343,6 +346,7 @@ fn scene(args: SceneArgs) -> CliResult {
             mrays_per_s: t.mrays_per_s(),
             median_mrays_per_s: t.rays as f64 / t.median_seconds / 1e6,
             ratio: 0.0,
+            vs_fewest_threads: 0.0,
             vs_embree: None,
             rays_kind: "primary",
             rays: t.rays,
@@ -356,12 +360,19 @@ fn scene(args: SceneArgs) -> CliResult {
             setup_ms: 1e3 * setup_seconds,
         }));
     }
-    // Ratios measured in this one run: against the first row, and raypack
-    // against Embree on the same kernel width, block and threads.
+    // Ratios measured in this one run: against the first row, against the
+    // fewest threads of the same variant, and raypack against Embree on the
+    // same kernel width, block and threads.
     let base = rows[0].mrays_per_s;
+    let all = rows.clone();
     let embree: Vec<SceneRow> = rows.iter().filter(|r| r.engine == "embree").cloned().collect();
     for r in &mut rows {
         r.ratio = r.mrays_per_s / base;
+        r.vs_fewest_threads = all
+            .iter()
+            .filter(|o| o.engine == r.engine && o.kernel == r.kernel && o.block == r.block)
+            .min_by_key(|o| o.threads)
+            .map_or(1.0, |o| r.mrays_per_s / o.mrays_per_s);
         if r.engine == "raypack" {
             r.vs_embree = embree
                 .iter()
@@ -387,13 +398,22 @@ fn scene(args: SceneArgs) -> CliResult {
         args.runs
     );
     println!(
-        "{:<8} {:<8} {:>5} {:>7} {:>10} {:>10} {:>9} {:>12} {:>10}",
-        "engine", "kernel", "block", "threads", "Mrays/s", "median", "best ms", "vs first", "vs embree"
+        "{:<8} {:<8} {:>5} {:>7} {:>10} {:>10} {:>9} {:>12} {:>12} {:>10}",
+        "engine",
+        "kernel",
+        "block",
+        "threads",
+        "Mrays/s",
+        "median",
+        "best ms",
+        "vs first",
+        "vs fewest t",
+        "vs embree"
     );
     for r in &rows {
         let vs_embree = r.vs_embree.map_or(String::new(), |x| format!("{x:.2}x"));
         println!(
-            "{:<8} {:<8} {:>5} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x {:>10}",
+            "{:<8} {:<8} {:>5} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x {:>11.2}x {:>10}",
             r.engine,
             r.kernel,
             r.block,
@@ -402,6 +422,7 @@ fn scene(args: SceneArgs) -> CliResult {
             r.median_mrays_per_s,
             r.rays as f64 / r.mrays_per_s / 1e3,
             r.ratio,
+            r.vs_fewest_threads,
             vs_embree
         );
     }

@@ -1,0 +1,40 @@
+//! `raypack bench scene --json`: one row per engine, kernel, block and thread
+//! count, with the ratios the benchmark targets are quoted from, all computed
+//! from the rows of the same run.
+
+use std::process::Command;
+
+#[test]
+fn rows_carry_consistent_ratios() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
+    let out = Command::new(env!("CARGO_BIN_EXE_raypack"))
+        .args(["bench", "scene", scene, "--size", "64x32", "--runs", "1"])
+        .args(["--threads", "1,2", "--kernel", "scalar,packet8", "--json"])
+        .output()
+        .expect("raypack runs");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let rows = rows.as_array().expect("an array of rows");
+    assert_eq!(rows.len(), 4);
+    let mrays = |r: &serde_json::Value| r["mrays_per_s"].as_f64().unwrap();
+    let first = mrays(&rows[0]);
+    for r in rows {
+        for key in ["scene", "engine", "kernel", "accel"] {
+            assert!(r[key].is_string(), "{key}");
+        }
+        assert_eq!(r["engine"], "raypack");
+        assert_eq!(r["rays"].as_u64(), Some(64 * 32));
+        assert!(mrays(r) > 0.0);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+        assert!(close(r["ratio"].as_f64().unwrap(), mrays(r) / first));
+        let one_thread = rows
+            .iter()
+            .find(|o| o["kernel"] == r["kernel"] && o["threads"].as_u64() == Some(1))
+            .expect("a 1-thread row per kernel");
+        assert!(close(
+            r["vs_fewest_threads"].as_f64().unwrap(),
+            mrays(r) / mrays(one_thread)
+        ));
+        assert_eq!(r["hits"], rows[0]["hits"], "every variant traces the same rays");
+    }
+}
