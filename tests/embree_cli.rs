@@ -140,6 +140,10 @@ fn render_and_bench_scene_run_through_embree() {
     assert!(png.exists());
     let report = std::fs::read_to_string(&json).unwrap();
     assert!(report.contains("embree"), "{report}");
+    // Embree reports no traversal work: no counts rather than zeros.
+    let parsed: serde_json::Value = serde_json::from_str(&report).unwrap();
+    assert!(parsed["traversal"].is_null(), "{report}");
+    assert_eq!(parsed["traversal_counted"], false);
 
     let o = raypack()
         .args([

@@ -5,9 +5,10 @@ mod render_support;
 
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
-use raypack::render::annotate::annotate_render;
+use raypack::render::annotate::{HeatMapKind, annotate_render};
+use raypack::render::engine::Engine;
 use raypack::render::report::{RenderReport, RunInfo};
-use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render};
+use raypack::render::{Block, Counting, KernelKind, Mode, RenderSettings, Sampling, render_counted};
 
 #[test]
 fn sidecar_caption_and_image_carry_the_same_numbers() {
@@ -22,15 +23,17 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
         sampling: Sampling::PixelCentres,
     };
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
-    let out = render(
+    let out = render_counted(
         &scene,
         &BruteForce::new(&scene.primitives),
         &camera,
         &settings,
+        Counting::Totals,
         &pool,
         || {},
     );
     let info = RunInfo {
+        engine: Engine::Raypack,
         kernel: settings.kernel,
         block: settings.block,
         mode: settings.mode,
@@ -76,12 +79,55 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
         format!("shadow {}", out.counts.shadow_rays),
         format!("reflect {}", out.counts.reflect_rays),
         format!("{:.2} Mrays/s", report.mrays_per_s),
+        format!(
+            "traversal, counted in this render, brute force: {}",
+            out.traversal.as_ref().unwrap().total.caption()
+        ),
     ] {
         assert!(caption.contains(&needle), "caption lacks {needle:?}:\n{caption}");
     }
 
-    let plain = annotate_render(&out, &report, false);
-    let heat = annotate_render(&out, &report, true);
+    // The traversal object: raw counters and the ratios derived from them.
+    let traversal = out.traversal.as_ref().unwrap();
+    let t = &json["traversal"];
+    assert_eq!(json["traversal_counted"], true);
+    assert_eq!(t["rays"].as_u64(), Some(out.counts.total()));
+    assert_eq!(t["nodes_visited"].as_u64(), Some(traversal.total.nodes_visited));
+    for key in [
+        "packets",
+        "prim_tests",
+        "simd_steps",
+        "simd_active_lanes",
+        "simd_lane_slots",
+        "fallback_rays",
+    ] {
+        assert!(t[key].is_u64(), "{key}: {t}");
+    }
+    let ratio = |a: &str, b: &str| t[a].as_u64().unwrap() as f64 / t[b].as_u64().unwrap() as f64;
+    let close = |key: &str, want: f64| {
+        let got = t[key].as_f64().unwrap();
+        assert!(
+            (got - want).abs() <= 1e-12 * want.abs().max(1.0),
+            "{key}: {got} vs {want}"
+        );
+    };
+    close("nodes_per_ray", ratio("nodes_visited", "rays"));
+    close("prims_per_ray", ratio("prim_tests", "rays"));
+    close("lane_utilisation", ratio("simd_active_lanes", "simd_lane_slots"));
+    // Brute force: no nodes, every packet lane tests primitives.
+    assert_eq!(t["nodes_visited"], 0);
+    assert!(t["prims_per_ray"].as_f64().unwrap() > 1.0);
+    assert!(t["lane_utilisation"].as_f64().unwrap() > 0.0 && t["lane_utilisation"].as_f64().unwrap() <= 1.0);
+    let tile_costs = json["tiles"]["cost_per_ray"].as_array().unwrap();
+    assert_eq!(tile_costs.len(), 15);
+    for (c, s) in tile_costs.iter().zip(&traversal.tiles) {
+        assert_eq!(c.as_f64(), Some(s.cost_per_ray()));
+    }
+
+    let plain = annotate_render(&out, &report, None).unwrap();
+    let heat = annotate_render(&out, &report, Some(HeatMapKind::Time)).unwrap();
+    // Counted in total only: no per-pixel costs for a cost heat map.
+    assert!(annotate_render(&out, &report, Some(HeatMapKind::Cost)).is_err());
     assert_eq!(plain.width(), 80);
     assert!(plain.height() > 40);
     assert!(heat.width() > 160);

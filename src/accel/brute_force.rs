@@ -1,7 +1,7 @@
 //! The lecture's ray casting loop: every ray against every primitive, nearest wins.
 
 use crate::accel::Accel;
-use crate::accel::stats::{AccelWithStats, Counter, NoStats, TraversalStats};
+use crate::accel::stats::{AccelWithStats, CountedAccel, Counter, NoStats};
 use crate::geometry::{Intersect, Primitive};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -92,24 +92,26 @@ impl Accel for BruteForce<'_> {
     }
 }
 
-impl AccelWithStats for BruteForce<'_> {
-    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit {
+impl CountedAccel for BruteForce<'_> {
+    fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
         self.nearest(ray, stats)
     }
 
-    fn intersect_packet_with_stats<F: SimdFloat>(
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
         &self,
         rays: &RayPacket<F>,
-        stats: &mut TraversalStats,
+        stats: &mut S,
     ) -> HitPacket<F> {
         self.nearest_packet(rays, stats)
     }
 
-    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         self.any(ray, stats)
     }
 
-    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F {
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
         self.any_packet(rays, stats)
     }
 }
+
+impl AccelWithStats for BruteForce<'_> {}

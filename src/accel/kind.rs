@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use crate::accel::stats::{AccelWithStats, TraversalStats};
+use crate::accel::stats::{AccelWithStats, CountedAccel, Counter};
 use crate::accel::{Accel, BruteForce, Bvh};
 use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
@@ -92,24 +92,26 @@ impl Accel for AnyAccel<'_> {
     }
 }
 
-impl AccelWithStats for AnyAccel<'_> {
-    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit {
-        forward!(self, a => a.intersect_with_stats(ray, stats))
+impl CountedAccel for AnyAccel<'_> {
+    fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
+        forward!(self, a => a.intersect_counted(ray, stats))
     }
 
-    fn intersect_packet_with_stats<F: SimdFloat>(
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
         &self,
         rays: &RayPacket<F>,
-        stats: &mut TraversalStats,
+        stats: &mut S,
     ) -> HitPacket<F> {
-        forward!(self, a => a.intersect_packet_with_stats(rays, stats))
+        forward!(self, a => a.intersect_packet_counted(rays, stats))
     }
 
-    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
-        forward!(self, a => a.occluded_with_stats(ray, stats))
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
+        forward!(self, a => a.occluded_counted(ray, stats))
     }
 
-    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F {
-        forward!(self, a => a.occluded_packet_with_stats(rays, stats))
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
+        forward!(self, a => a.occluded_packet_counted(rays, stats))
     }
 }
+
+impl AccelWithStats for AnyAccel<'_> {}

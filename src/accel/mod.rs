@@ -4,7 +4,7 @@
 //! [`BruteForce`] is the lecture's loop (every ray against every object) and the
 //! reference every other structure is checked against; [`Bvh`] is the SAH
 //! bounding volume hierarchy. [`AccelKind`] picks one (`--accel none|bvh`), and
-//! [`AccelWithStats`] runs the same queries counting their cost.
+//! [`CountedAccel`] and [`AccelWithStats`] run the same queries counting their cost.
 
 pub mod brute_force;
 pub mod bvh;
@@ -14,7 +14,7 @@ pub mod stats;
 pub use brute_force::BruteForce;
 pub use bvh::Bvh;
 pub use kind::{AccelKind, AnyAccel};
-pub use stats::{AccelWithStats, TraversalStats};
+pub use stats::{AccelWithStats, CountedAccel, TraversalStats};
 
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};

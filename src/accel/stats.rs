@@ -3,9 +3,10 @@
 //!
 //! Traversal code is generic over a [`Counter`]. The plain [`Accel`] queries run
 //! with [`NoStats`], a zero-sized counter whose methods are empty and vanish
-//! after inlining; the `*_with_stats` queries of [`AccelWithStats`] run the same
-//! code with a [`TraversalStats`] the caller owns, so a renderer keeps one per
-//! tile (or per ray, for a heat map) and adds them up with [`TraversalStats::merge`].
+//! after inlining; the `*_counted` queries of [`CountedAccel`] run the same code
+//! with any counter the caller owns, and the `*_with_stats` queries of
+//! [`AccelWithStats`] with a [`TraversalStats`], so a renderer keeps one per
+//! tile (or per lane, for a heat map) and adds them up with [`TraversalStats::merge`].
 //! No atomics, no globals.
 
 use std::ops::AddAssign;
@@ -32,6 +33,10 @@ pub trait Counter {
     fn packet_prim<F: SimdFloat>(&mut self, mask: F);
     /// `n` lanes of a packet left it to finish as single rays.
     fn fallback(&mut self, n: u64);
+    /// The single-ray events that follow are the work of lane `lane` of the
+    /// packet being traced, finishing a subtree on its own: lets a counter
+    /// charge each lane its own work (the totals do not need it).
+    fn lane(&mut self, lane: usize);
 }
 
 /// The counter that counts nothing (0 bytes): the plain queries use it.
@@ -53,6 +58,8 @@ impl Counter for NoStats {
     fn packet_prim<F: SimdFloat>(&mut self, _: F) {}
     #[inline(always)]
     fn fallback(&mut self, _: u64) {}
+    #[inline(always)]
+    fn lane(&mut self, _: usize) {}
 }
 
 /// What the ray queries of a tile, an image or one ray cost. 64 bytes.
@@ -113,6 +120,8 @@ impl Counter for TraversalStats {
     fn fallback(&mut self, n: u64) {
         self.fallback_rays += n;
     }
+    #[inline(always)]
+    fn lane(&mut self, _: usize) {}
 }
 
 impl TraversalStats {
@@ -157,8 +166,16 @@ impl TraversalStats {
         ratio(self.simd_active_lanes, self.simd_lane_slots)
     }
 
+    /// Single-ray fallbacks per ray: lanes that left a packet to finish a
+    /// subtree on their own, per ray traced (0 without rays). A lane can leave
+    /// once per subtree it reaches with too few companions, so this can exceed 1.
+    pub fn fallbacks_per_ray(&self) -> f64 {
+        ratio(self.fallback_rays, self.rays)
+    }
+
     /// A one-line summary for image captions and logs, e.g.
-    /// `31.2 nodes/ray, 4.1 prims/ray, lanes 83%`.
+    /// `31.2 nodes/ray, 4.1 prims/ray, lanes 83% (packets), 0.12 single-ray fallbacks/ray`
+    /// (the packet figures only when packets were traced).
     pub fn caption(&self) -> String {
         let mut s = format!(
             "{:.1} nodes/ray, {:.1} prims/ray",
@@ -166,7 +183,11 @@ impl TraversalStats {
             self.prims_per_ray()
         );
         if self.simd_lane_slots > 0 {
-            s += &format!(", lanes {:.0}%", 100.0 * self.lane_utilisation());
+            s += &format!(
+                ", lanes {:.0}% (packets), {:.2} single-ray fallbacks/ray",
+                100.0 * self.lane_utilisation(),
+                self.fallbacks_per_ray()
+            );
         }
         s
     }
@@ -182,24 +203,108 @@ fn ratio(a: u64, b: u64) -> f64 {
     if b == 0 { 0.0 } else { a as f64 / b as f64 }
 }
 
-/// The [`Accel`] queries with their cost counted into a caller's [`TraversalStats`].
-/// Each returns exactly what the plain query returns.
-pub trait AccelWithStats: Accel {
+/// The [`Accel`] queries with their events reported to any [`Counter`] the
+/// caller owns. Each returns exactly what the plain query returns; with
+/// [`NoStats`] each is the plain query.
+pub trait CountedAccel: Accel {
     /// [`Accel::intersect`], counted.
-    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit;
+    fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit;
+
+    /// [`Accel::intersect_packet`], counted.
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        stats: &mut S,
+    ) -> HitPacket<F>;
+
+    /// [`Accel::occluded`], counted.
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool;
+
+    /// [`Accel::occluded_packet`], counted.
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F;
+}
+
+/// The [`CountedAccel`] queries counted into a [`TraversalStats`], the counter
+/// most callers want.
+pub trait AccelWithStats: CountedAccel {
+    /// [`Accel::intersect`], counted.
+    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit {
+        self.intersect_counted(ray, stats)
+    }
 
     /// [`Accel::intersect_packet`], counted.
     fn intersect_packet_with_stats<F: SimdFloat>(
         &self,
         rays: &RayPacket<F>,
         stats: &mut TraversalStats,
-    ) -> HitPacket<F>;
+    ) -> HitPacket<F> {
+        self.intersect_packet_counted(rays, stats)
+    }
 
     /// [`Accel::occluded`], counted.
-    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool;
+    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
+        self.occluded_counted(ray, stats)
+    }
 
     /// [`Accel::occluded_packet`], counted.
-    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F;
+    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F {
+        self.occluded_packet_counted(rays, stats)
+    }
+}
+
+/// Any [`Accel`] behind the [`CountedAccel`] API with nothing counted: its
+/// queries are the plain ones and a counter sees no events. Lets code written
+/// once over `CountedAccel` run uncounted on a structure that cannot count
+/// (Embree), as the renderer's plain path does.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Uncounted<'a, A>(pub &'a A);
+
+impl<A: Accel> Accel for Uncounted<'_, A> {
+    #[inline(always)]
+    fn intersect(&self, ray: &Ray) -> Hit {
+        self.0.intersect(ray)
+    }
+
+    #[inline(always)]
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
+        self.0.intersect_packet(rays)
+    }
+
+    #[inline(always)]
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.0.occluded(ray)
+    }
+
+    #[inline(always)]
+    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
+        self.0.occluded_packet(rays)
+    }
+}
+
+impl<A: Accel> CountedAccel for Uncounted<'_, A> {
+    #[inline(always)]
+    fn intersect_counted<S: Counter>(&self, ray: &Ray, _: &mut S) -> Hit {
+        self.0.intersect(ray)
+    }
+
+    #[inline(always)]
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        _: &mut S,
+    ) -> HitPacket<F> {
+        self.0.intersect_packet(rays)
+    }
+
+    #[inline(always)]
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, _: &mut S) -> bool {
+        self.0.occluded(ray)
+    }
+
+    #[inline(always)]
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, _: &mut S) -> F {
+        self.0.occluded_packet(rays)
+    }
 }
 
 #[cfg(test)]
@@ -224,7 +329,14 @@ mod tests {
         total += &s;
         assert_eq!(total.simd_active_lanes, 12);
         assert_eq!(total.rays, 16);
-        assert!(total.caption().contains("lanes 38%"), "{}", total.caption());
+        total.fallback(4);
+        assert!(
+            total
+                .caption()
+                .contains("lanes 38% (packets), 0.25 single-ray fallbacks/ray"),
+            "{}",
+            total.caption()
+        );
     }
 
     #[test]

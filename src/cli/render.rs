@@ -6,14 +6,17 @@ use std::time::Instant;
 
 use clap::Args as ClapArgs;
 
+use crate::accel::{Accel, CountedAccel};
 use crate::camera::Camera;
 use crate::cli::{CliError, CliResult};
-use crate::render::annotate::annotate_render;
+use crate::render::annotate::{HeatMapKind, NoPixelCosts, annotate_render};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::output::{AtomicFile, png_bytes};
 use crate::render::progress::Progress;
 use crate::render::report::{RenderReport, RunInfo};
-use crate::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
+use crate::render::{
+    Block, Counting, KernelKind, Mode, Render, RenderSettings, Sampling, render, render_counted,
+};
 use crate::scene::Scene;
 
 /// Options of `render`.
@@ -51,15 +54,21 @@ pub struct Args {
     /// Image size WxH (default: the scene camera's; the fields of view stay the scene's).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
-    /// Put a heat map of the time per tile beside the image.
-    #[arg(long)]
-    pub heatmap: bool,
+    /// Put a heat map beside the image: `time`, the CPU time per pixel of each
+    /// tile (`--heatmap` alone), or `cost`, each pixel's traversal cost (node
+    /// visits + primitive tests of all its rays).
+    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "time")]
+    pub heatmap: Option<HeatMapKind>,
     /// Leave out the caption band (and heat map): the bare render.
     #[arg(long, conflicts_with = "heatmap")]
     pub no_caption: bool,
     /// Also write the numbers as JSON to this file.
     #[arg(long)]
     pub stats_json: Option<PathBuf>,
+    /// Do not count traversal statistics (nodes, primitive tests and SIMD lanes
+    /// per ray) during the render, for the last few percent of speed.
+    #[arg(long)]
+    pub no_traversal_stats: bool,
 }
 
 /// Parse `WxH` into a non-empty image size.
@@ -104,25 +113,42 @@ fn output_error(e: crate::render::output::OutputError) -> CliError {
     CliError::BadInput(e.into())
 }
 
-/// Render with whichever acceleration structure was chosen.
+/// Render with whichever acceleration structure was chosen, counting its
+/// traversal as `counting` says where the structure can be counted.
 struct Job<'a> {
     scene: &'a Scene,
     camera: &'a Camera,
     settings: &'a RenderSettings,
+    counting: Counting,
     pool: &'a rayon::ThreadPool,
+}
+
+impl Job<'_> {
+    /// Run `trace` with a progress bar ticked by its tiles.
+    fn with_progress(&self, trace: impl FnOnce(&(dyn Fn() + Sync)) -> Render) -> Render {
+        let tiles = self.camera.width.div_ceil(self.settings.tile_size)
+            * self.camera.height.div_ceil(self.settings.tile_size);
+        let progress = Progress::new(tiles as usize);
+        let out = trace(&|| progress.tile_done());
+        progress.finish();
+        out
+    }
 }
 
 impl WithAccel for Job<'_> {
     type Output = (Render, f64);
 
-    fn run<A: crate::accel::Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
-        let tiles = self.camera.width.div_ceil(self.settings.tile_size)
-            * self.camera.height.div_ceil(self.settings.tile_size);
-        let progress = Progress::new(tiles as usize);
-        let out = render(self.scene, accel, self.camera, self.settings, self.pool, || {
-            progress.tile_done()
+    fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
+        let out =
+            self.with_progress(|tick| render(self.scene, accel, self.camera, self.settings, self.pool, tick));
+        (out, setup_seconds)
+    }
+
+    fn run_counted<A: CountedAccel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
+        let out = self.with_progress(|tick| {
+            let (scene, camera, settings) = (self.scene, self.camera, self.settings);
+            render_counted(scene, accel, camera, settings, self.counting, self.pool, tick)
         });
-        progress.finish();
         (out, setup_seconds)
     }
 }
@@ -140,6 +166,15 @@ pub fn run(args: Args) -> CliResult {
             args.output.display()
         )));
     }
+    // A cost heat map needs per-pixel counts, which only raypack's structures give.
+    let counting = match args.heatmap {
+        Some(HeatMapKind::Cost) if args.no_traversal_stats || args.engine == Engine::Embree => {
+            return Err(CliError::BadInput(NoPixelCosts.into()));
+        }
+        Some(HeatMapKind::Cost) => Counting::PerPixel,
+        _ if args.no_traversal_stats => Counting::Off,
+        _ => Counting::Totals,
+    };
     let image_file = AtomicFile::create(&args.output).map_err(output_error)?;
     let json_file = args
         .stats_json
@@ -163,6 +198,7 @@ pub fn run(args: Args) -> CliResult {
         scene: &scene,
         camera: &camera,
         settings: &settings,
+        counting,
         pool: &pool,
     };
     let (out, setup_seconds) =
@@ -176,6 +212,7 @@ pub fn run(args: Args) -> CliResult {
         &scene,
         &out,
         &RunInfo {
+            engine: args.engine,
             kernel: args.kernel,
             block: args.block,
             mode: args.mode,
@@ -190,7 +227,7 @@ pub fn run(args: Args) -> CliResult {
     let image = if args.no_caption {
         out.frame.to_rgb8()
     } else {
-        annotate_render(&out, &report, args.heatmap)
+        annotate_render(&out, &report, args.heatmap).map_err(|e| CliError::BadInput(e.into()))?
     };
     image_file.commit(&png_bytes(&image)).map_err(output_error)?;
     if let Some(file) = json_file {

@@ -1,6 +1,6 @@
 //! Timing-annotated images: the render, optionally a heat map of where the time
-//! went beside it with a colour legend, and a caption band underneath with the
-//! numbers of the run.
+//! or the traversal work went beside it with a colour legend, and a caption
+//! band underneath with the numbers of the run.
 //!
 //! ```text
 //! +---------+   +---------+ +-+ max
@@ -11,9 +11,13 @@
 //! +-------------------------------------------------------------------+
 //! ```
 //!
-//! The heat map colours each tile by its cost per pixel (its time divided by
-//! its pixel count, so the smaller tiles at the right and bottom edges compare
-//! fairly), on a scale from 0 to the most expensive tile.
+//! The time heat map colours each tile by its CPU time per pixel (its time
+//! divided by its pixel count, so the smaller tiles at the right and bottom
+//! edges compare fairly); the cost heat map colours each pixel by the node
+//! visits plus primitive tests of all its rays. The time scale runs from 0 to
+//! the slowest tile; the cost scale from 0 to the 99th percentile of the
+//! pixels (labelled `N+`), since a few pixels (grazing rays, deep mirror
+//! paths) cost many times the rest and would leave everything else black.
 
 use image::{Rgb, RgbImage};
 
@@ -22,8 +26,8 @@ use crate::render::report::RenderReport;
 use crate::render::text;
 use crate::render::{Render, Tile};
 
-/// Space between panels, in pixels.
-const GAP: u32 = 8;
+/// Space between panels, in pixels: the heat map starts `GAP` pixels right of the render.
+pub const GAP: u32 = 8;
 /// Width of the legend's colour bar.
 const BAR: u32 = 16;
 /// Caption band background.
@@ -32,24 +36,110 @@ const BAND: Rgb<u8> = Rgb([24, 24, 28]);
 const INK: Rgb<u8> = Rgb([230, 230, 230]);
 /// Legend labels ticks: fractions of the scale that get a label.
 const TICKS: [f64; 3] = [1.0, 0.5, 0.0];
+/// Legend label width in characters, at least.
+const LABEL_COLUMNS: usize = 10;
+/// Percentile of the pixel costs at the top of the cost scale.
+const COST_PERCENTILE: f64 = 0.99;
 
-/// Per-tile times to show as a heat map. 32 bytes (two borrowed slices).
-#[derive(Clone, Copy, Debug)]
-pub struct HeatMap<'a> {
-    /// The tiles (in image pixels).
-    pub tiles: &'a [Tile],
-    /// CPU seconds spent in each tile.
-    pub seconds: &'a [f64],
+/// What a heat map beside the render shows (`--heatmap time|cost`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum HeatMapKind {
+    /// CPU time per pixel of each tile.
+    Time,
+    /// Traversal cost of each pixel: node visits plus primitive tests of all its rays.
+    Cost,
 }
 
-impl HeatMap<'_> {
-    /// Microseconds per pixel of each tile.
-    pub fn cost_per_pixel_us(&self) -> Vec<f64> {
-        self.tiles
-            .iter()
-            .zip(self.seconds)
-            .map(|(t, s)| 1e6 * s / t.pixels().max(1) as f64)
-            .collect()
+/// A cost heat map was asked of a render without per-pixel traversal costs.
+#[derive(Clone, Copy, Debug, thiserror::Error)]
+#[error(
+    "cost heat map needs raypack's traversal statistics: render with --engine raypack and without \
+     --no-traversal-stats (or use --heatmap time)"
+)]
+pub struct NoPixelCosts;
+
+/// A value per pixel to show as a heat map, with the legend's unit.
+/// 64 bytes plus 8 per pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeatMap {
+    width: u32,
+    height: u32,
+    /// Row-major, `width × height`.
+    values: Vec<f64>,
+    /// The value of the brightest colour; larger values get it too.
+    top: f64,
+    unit: &'static str,
+    /// Decimals of the legend's labels.
+    decimals: usize,
+}
+
+impl HeatMap {
+    /// Each tile's CPU time per pixel in microseconds, over the tile's pixels.
+    pub fn tile_times(tiles: &[Tile], seconds: &[f64]) -> Self {
+        let width = tiles.iter().map(|t| t.x + t.width).max().unwrap_or(0);
+        let height = tiles.iter().map(|t| t.y + t.height).max().unwrap_or(0);
+        let mut values = vec![0.0; width as usize * height as usize];
+        for (tile, s) in tiles.iter().zip(seconds) {
+            let us = 1e6 * s / tile.pixels().max(1) as f64;
+            for y in tile.y..tile.y + tile.height {
+                let row = (y * width) as usize;
+                values[row + tile.x as usize..row + (tile.x + tile.width) as usize].fill(us);
+            }
+        }
+        let top = values.iter().copied().fold(0.0, f64::max);
+        Self {
+            width,
+            height,
+            values,
+            top,
+            unit: "us/px",
+            decimals: 3,
+        }
+    }
+
+    /// Each pixel's traversal cost (node visits plus primitive tests), `cost`
+    /// being row-major with `width × height` entries; the scale tops out at
+    /// the 99th percentile (or the maximum, if that percentile is 0).
+    pub fn pixel_costs(width: u32, height: u32, cost: &[u64]) -> Self {
+        debug_assert_eq!(cost.len(), width as usize * height as usize);
+        let mut sorted = cost.to_vec();
+        sorted.sort_unstable();
+        let rank = (COST_PERCENTILE * sorted.len() as f64).ceil() as usize;
+        let percentile = sorted.get(rank.max(1) - 1).copied().unwrap_or(0);
+        let top = if percentile > 0 {
+            percentile
+        } else {
+            sorted.last().copied().unwrap_or(0)
+        };
+        Self {
+            width,
+            height,
+            values: cost.iter().map(|&c| c as f64).collect(),
+            top: top as f64,
+            unit: "nodes+prims/px",
+            decimals: 0,
+        }
+    }
+
+    /// The value of pixel `(x, y)`.
+    pub fn value(&self, x: u32, y: u32) -> f64 {
+        self.values[(y * self.width + x) as usize]
+    }
+
+    /// The largest value (0 for an empty map).
+    pub fn max(&self) -> f64 {
+        self.values.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// The value of the brightest colour: the maximum, or for pixel costs the
+    /// 99th percentile (larger values are as bright).
+    pub fn top(&self) -> f64 {
+        self.top
+    }
+
+    /// Legend width in pixels at text scale `scale`.
+    fn legend_width(&self, scale: u32) -> u32 {
+        BAR + GAP / 2 + self.unit.len().max(LABEL_COLUMNS) as u32 * text::GLYPH * scale
     }
 }
 
@@ -64,10 +154,8 @@ fn text_scale(width: u32) -> u32 {
 pub fn annotate(render: &RgbImage, caption: &[String], heat_map: Option<&HeatMap>) -> RgbImage {
     let (w, h) = render.dimensions();
     let scale = text_scale(w * if heat_map.is_some() { 2 } else { 1 });
-    let label_columns = 10;
-    let legend_width = BAR + GAP / 2 + label_columns * text::GLYPH * scale;
     let panel_width = match heat_map {
-        Some(_) => w + GAP + w + GAP + legend_width + GAP,
+        Some(hm) => w + GAP + w + GAP + hm.legend_width(scale) + GAP,
         None => w,
     };
     let line_height = text::GLYPH * scale + 4;
@@ -88,40 +176,49 @@ pub fn annotate(render: &RgbImage, caption: &[String], heat_map: Option<&HeatMap
 }
 
 /// The picture of `render` with the caption of `report` under it, and with
-/// `heat_map` the per-tile heat map and its legend beside it.
-pub fn annotate_render(render: &Render, report: &RenderReport, heat_map: bool) -> RgbImage {
+/// `heat_map` that heat map and its legend beside it. A cost heat map needs
+/// the render's per-pixel traversal costs.
+pub fn annotate_render(
+    render: &Render,
+    report: &RenderReport,
+    heat_map: Option<HeatMapKind>,
+) -> Result<RgbImage, NoPixelCosts> {
     let mut caption = report.caption();
-    let heat = heat_map.then(|| {
-        caption.push(report.heat_caption());
-        HeatMap {
-            tiles: &render.tiles,
-            seconds: &render.tile_seconds,
+    let heat = match heat_map {
+        None => None,
+        Some(kind) => {
+            caption.push(report.heat_caption(kind));
+            Some(match kind {
+                HeatMapKind::Time => HeatMap::tile_times(&render.tiles, &render.tile_seconds),
+                HeatMapKind::Cost => {
+                    let cost = render
+                        .traversal
+                        .as_ref()
+                        .and_then(|t| t.pixel_cost.as_deref())
+                        .ok_or(NoPixelCosts)?;
+                    HeatMap::pixel_costs(render.frame.width, render.frame.height, cost)
+                }
+            })
         }
-    });
-    annotate(&render.frame.to_rgb8(), &caption, heat.as_ref())
+    };
+    Ok(annotate(&render.frame.to_rgb8(), &caption, heat.as_ref()))
 }
 
 /// The heat map with its top-left corner at column `x0`, then the legend.
 fn draw_heat_map(out: &mut RgbImage, hm: &HeatMap, x0: u32, scale: u32) {
-    let cost = hm.cost_per_pixel_us();
-    let max = cost.iter().copied().fold(0.0f64, f64::max);
-    let level = |c: f64| if max > 0.0 { (c / max) as f32 } else { 0.0 };
-    for (tile, &c) in hm.tiles.iter().zip(&cost) {
-        let color = heat(level(c));
-        for y in tile.y..tile.y + tile.height {
-            for x in tile.x..tile.x + tile.width {
-                if x0 + x < out.width() && y < out.height() {
-                    out.put_pixel(x0 + x, y, color);
-                }
+    let top = hm.top();
+    let level = |v: f64| if top > 0.0 { (v / top) as f32 } else { 0.0 };
+    for y in 0..hm.height.min(out.height()) {
+        for x in 0..hm.width {
+            if x0 + x < out.width() {
+                out.put_pixel(x0 + x, y, heat(level(hm.value(x, y))));
             }
         }
     }
     // Legend: a vertical bar from the maximum (top) to 0 (bottom), with labels.
-    let panel_height = hm.tiles.iter().map(|t| t.y + t.height).max().unwrap_or(0);
-    let panel_width = hm.tiles.iter().map(|t| t.x + t.width).max().unwrap_or(0);
-    let bar_x = x0 + panel_width + GAP;
-    for y in 0..panel_height {
-        let color = heat(1.0 - y as f32 / (panel_height.max(2) - 1) as f32);
+    let bar_x = x0 + hm.width + GAP;
+    for y in 0..hm.height {
+        let color = heat(1.0 - y as f32 / (hm.height.max(2) - 1) as f32);
         for x in bar_x..bar_x + BAR {
             if x < out.width() {
                 out.put_pixel(x, y, color);
@@ -130,12 +227,21 @@ fn draw_heat_map(out: &mut RgbImage, hm: &HeatMap, x0: u32, scale: u32) {
     }
     let label_x = i64::from(bar_x + BAR + GAP / 2);
     let glyph = i64::from(text::GLYPH * scale);
-    let bottom = i64::from(panel_height) - glyph;
+    let bottom = i64::from(hm.height) - glyph;
+    let clipped = hm.max() > top;
     for f in TICKS {
         let y = ((1.0 - f) * bottom as f64) as i64;
-        text::draw(out, label_x, y, &format!("{:.3}", f * max), scale, INK);
+        let plus = if f == 1.0 && clipped { "+" } else { "" };
+        text::draw(
+            out,
+            label_x,
+            y,
+            &format!("{:.*}{plus}", hm.decimals, f * top),
+            scale,
+            INK,
+        );
     }
-    text::draw(out, label_x, bottom / 2 + glyph + 2, "us/px", scale, INK);
+    text::draw(out, label_x, bottom / 2 + glyph + 2, hm.unit, scale, INK);
 }
 
 #[cfg(test)]
@@ -149,10 +255,7 @@ mod tests {
         let grid = tiles(64, 48, 16);
         // The last tile is the most expensive: it gets the brightest colour.
         let seconds: Vec<f64> = (0..grid.len()).map(|i| (i + 1) as f64 * 1e-3).collect();
-        let hm = HeatMap {
-            tiles: &grid,
-            seconds: &seconds,
-        };
+        let hm = HeatMap::tile_times(&grid, &seconds);
         let caption = vec!["scene: test  64x48".to_string(), "rays: eye 3072".to_string()];
         let img = annotate(&render, &caption, Some(&hm));
         assert!(img.width() > 2 * 64 + GAP);
@@ -174,17 +277,48 @@ mod tests {
     }
 
     #[test]
+    fn cost_heat_map_colours_each_pixel_by_its_cost() {
+        let render = RgbImage::new(6, 4);
+        // Cost grows to the right; pixel (5, 3) is the costliest.
+        let cost: Vec<u64> = (0..24).map(|k| (k % 6) * 10 + u64::from(k == 23)).collect();
+        let hm = HeatMap::pixel_costs(6, 4, &cost);
+        assert_eq!(hm.max(), 51.0);
+        // The scale tops out at the 99th percentile: the 24th of 24 values.
+        assert_eq!(hm.top(), 51.0);
+        assert_eq!(hm.value(2, 1), 20.0);
+        let img = annotate(&render, &[], Some(&hm));
+        let x0 = 6 + GAP;
+        assert_eq!(*img.get_pixel(x0 + 5, 3), heat(1.0));
+        assert_eq!(*img.get_pixel(x0, 0), heat(0.0));
+        assert_eq!(*img.get_pixel(x0 + 2, 1), heat((20.0 / 51.0) as f32));
+        // One outlier among 200 pixels does not set the scale; it is as bright as the top.
+        let mut spiky = vec![10u64; 200];
+        spiky[7] = 1000;
+        let hm = HeatMap::pixel_costs(20, 10, &spiky);
+        assert_eq!((hm.top(), hm.max()), (10.0, 1000.0));
+        let img = annotate(&RgbImage::new(20, 10), &[], Some(&hm));
+        assert_eq!(*img.get_pixel(20 + GAP + 7, 0), heat(1.0));
+        assert_eq!(*img.get_pixel(20 + GAP + 8, 0), heat(1.0));
+        // Mostly zero: the maximum is the top.
+        let mut sparse = vec![0u64; 200];
+        sparse[3] = 5;
+        assert_eq!(HeatMap::pixel_costs(20, 10, &sparse).top(), 5.0);
+        assert_eq!(HeatMap::pixel_costs(0, 0, &[]).top(), 0.0);
+        // The legend's unit fits beside the bar.
+        assert!(img.width() >= x0 + 6 + GAP + BAR + GAP / 2 + "nodes+prims/px".len() as u32 * text::GLYPH);
+        // The time map of the same tiles is per tile: every pixel of a tile alike.
+        let grid = tiles(6, 4, 2);
+        let seconds: Vec<f64> = (0..grid.len()).map(|i| i as f64).collect();
+        let times = HeatMap::tile_times(&grid, &seconds);
+        assert_eq!(times.value(0, 0), times.value(1, 1));
+        assert_eq!(times.value(5, 3), 1e6 * 5.0 / 4.0);
+    }
+
+    #[test]
     fn tiny_images_and_empty_captions_do_not_panic() {
         let render = RgbImage::new(1, 1);
         let grid = tiles(1, 1, 16);
-        let img = annotate(
-            &render,
-            &[],
-            Some(&HeatMap {
-                tiles: &grid,
-                seconds: &[0.0],
-            }),
-        );
+        let img = annotate(&render, &[], Some(&HeatMap::tile_times(&grid, &[0.0])));
         assert!(img.width() >= 1 && img.height() >= 1);
         let plain = annotate(&render, &["a long caption that will wrap".to_string()], None);
         assert_eq!(plain.width(), 1);

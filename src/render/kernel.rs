@@ -6,12 +6,19 @@
 //! results with the same scalar code whichever kernel traced them. Since the packet
 //! kernels agree with their scalar twins lane by lane, both kernels then produce
 //! the same hits, the same secondary rays and the same images.
+//!
+//! Every query reports its traversal work to the tile's [`TileCounter`],
+//! after telling it which batch lanes it traces; with [`NoStats`] the counting
+//! compiles away.
+//!
+//! [`NoStats`]: crate::accel::stats::NoStats
 
 use std::marker::PhantomData;
 
-use crate::accel::Accel;
+use crate::accel::CountedAccel;
 use crate::packet::RayPacket;
 use crate::ray::{Hit, Ray};
+use crate::render::counting::TileCounter;
 use crate::simd::{SimdFloat, SimdU32};
 
 /// Rays per batch: one 4×2 or 8×1 pixel block, one 8-wide packet.
@@ -26,22 +33,37 @@ pub const ALL_LANES: u32 = (1 << BATCH) - 1;
 /// Nearest-hit and occlusion queries on batches of rays.
 pub trait TraceKernel: Send + Sync + 'static {
     /// Nearest hits of the lanes in `active`; other lanes get [`Hit::none`].
-    fn intersect<A: Accel>(accel: &A, rays: &Rays, active: u32) -> [Hit; BATCH];
+    fn intersect<A: CountedAccel, C: TileCounter>(
+        accel: &A,
+        rays: &Rays,
+        active: u32,
+        counter: &mut C,
+    ) -> [Hit; BATCH];
 
     /// The mask of lanes in `active` whose ray is blocked in `[t_min, t_max]`.
-    fn occluded<A: Accel>(accel: &A, rays: &Rays, active: u32) -> u32;
+    fn occluded<A: CountedAccel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C)
+    -> u32;
 }
 
 /// One ray at a time: [`Accel::intersect`] and [`Accel::occluded`].
+///
+/// [`Accel::intersect`]: crate::accel::Accel::intersect
+/// [`Accel::occluded`]: crate::accel::Accel::occluded
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ScalarKernel;
 
 impl TraceKernel for ScalarKernel {
     #[inline]
-    fn intersect<A: Accel>(accel: &A, rays: &Rays, active: u32) -> [Hit; BATCH] {
+    fn intersect<A: CountedAccel, C: TileCounter>(
+        accel: &A,
+        rays: &Rays,
+        active: u32,
+        counter: &mut C,
+    ) -> [Hit; BATCH] {
         std::array::from_fn(|i| {
             if active >> i & 1 == 1 {
-                accel.intersect(&rays[i])
+                counter.batch_lanes(i);
+                accel.intersect_counted(&rays[i], counter)
             } else {
                 Hit::none(&rays[i])
             }
@@ -49,9 +71,19 @@ impl TraceKernel for ScalarKernel {
     }
 
     #[inline]
-    fn occluded<A: Accel>(accel: &A, rays: &Rays, active: u32) -> u32 {
+    fn occluded<A: CountedAccel, C: TileCounter>(
+        accel: &A,
+        rays: &Rays,
+        active: u32,
+        counter: &mut C,
+    ) -> u32 {
         (0..BATCH)
-            .filter(|&i| active >> i & 1 == 1 && accel.occluded(&rays[i]))
+            .filter(|&i| {
+                active >> i & 1 == 1 && {
+                    counter.batch_lanes(i);
+                    accel.occluded_counted(&rays[i], counter)
+                }
+            })
             .fold(0, |mask, i| mask | 1 << i)
     }
 }
@@ -59,6 +91,9 @@ impl TraceKernel for ScalarKernel {
 /// SIMD packets of `F::LANES` rays: [`Accel::intersect_packet`] and
 /// [`Accel::occluded_packet`]. A batch is cut into `BATCH / F::LANES` packets
 /// (one for `f32x8`); lanes past the batch are inactive.
+///
+/// [`Accel::intersect_packet`]: crate::accel::Accel::intersect_packet
+/// [`Accel::occluded_packet`]: crate::accel::Accel::occluded_packet
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PacketKernel<F>(PhantomData<F>);
 
@@ -67,7 +102,12 @@ pub type Packet8Kernel = PacketKernel<wide::f32x8>;
 
 impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
     #[inline]
-    fn intersect<A: Accel>(accel: &A, rays: &Rays, active: u32) -> [Hit; BATCH] {
+    fn intersect<A: CountedAccel, C: TileCounter>(
+        accel: &A,
+        rays: &Rays,
+        active: u32,
+        counter: &mut C,
+    ) -> [Hit; BATCH] {
         let mut out: [Hit; BATCH] = std::array::from_fn(|i| Hit::none(&rays[i]));
         for (c, chunk) in rays.chunks(F::LANES).enumerate() {
             let first = c * F::LANES;
@@ -75,7 +115,9 @@ impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
             if mask == 0 {
                 continue;
             }
-            let hits = accel.intersect_packet(&RayPacket::<F>::from_rays_masked(chunk, mask));
+            counter.batch_lanes(first);
+            let hits =
+                accel.intersect_packet_counted(&RayPacket::<F>::from_rays_masked(chunk, mask), counter);
             // Unpack each vector once rather than lane by lane.
             let (t, prim, u, v) = (
                 hits.t.to_array(),
@@ -95,13 +137,20 @@ impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
     }
 
     #[inline]
-    fn occluded<A: Accel>(accel: &A, rays: &Rays, active: u32) -> u32 {
+    fn occluded<A: CountedAccel, C: TileCounter>(
+        accel: &A,
+        rays: &Rays,
+        active: u32,
+        counter: &mut C,
+    ) -> u32 {
         let mut blocked = 0;
         for (c, chunk) in rays.chunks(F::LANES).enumerate() {
             let first = c * F::LANES;
             let mask = active >> first & ((1u32 << chunk.len()) - 1);
             if mask != 0 {
-                let lanes = accel.occluded_packet(&RayPacket::<F>::from_rays_masked(chunk, mask));
+                counter.batch_lanes(first);
+                let lanes =
+                    accel.occluded_packet_counted(&RayPacket::<F>::from_rays_masked(chunk, mask), counter);
                 blocked |= (lanes.bitmask() & mask) << first;
             }
         }
@@ -115,6 +164,7 @@ mod tests {
 
     use super::*;
     use crate::accel::BruteForce;
+    use crate::accel::stats::NoStats;
     use crate::geometry::{Primitive, Sphere};
     use crate::rng::Rng;
 
@@ -130,18 +180,25 @@ mod tests {
     /// Both kernels (and a 4-wide packet kernel) give the same records and
     /// occlusion masks, lane by lane; inactive lanes are never hit or blocked.
     fn check(accel: &BruteForce, rays: &Rays, active: u32) {
-        let a = ScalarKernel::intersect(accel, rays, active);
+        let a = ScalarKernel::intersect(accel, rays, active, &mut NoStats);
         assert_eq!(
             a,
-            Packet8Kernel::intersect(accel, rays, active),
+            Packet8Kernel::intersect(accel, rays, active, &mut NoStats),
             "{rays:?} {active:b}"
         );
-        assert_eq!(a, PacketKernel::<wide::f32x4>::intersect(accel, rays, active));
-        let blocked = ScalarKernel::occluded(accel, rays, active);
-        assert_eq!(blocked, Packet8Kernel::occluded(accel, rays, active), "{rays:?}");
+        assert_eq!(
+            a,
+            PacketKernel::<wide::f32x4>::intersect(accel, rays, active, &mut NoStats)
+        );
+        let blocked = ScalarKernel::occluded(accel, rays, active, &mut NoStats);
         assert_eq!(
             blocked,
-            PacketKernel::<wide::f32x4>::occluded(accel, rays, active)
+            Packet8Kernel::occluded(accel, rays, active, &mut NoStats),
+            "{rays:?}"
+        );
+        assert_eq!(
+            blocked,
+            PacketKernel::<wide::f32x4>::occluded(accel, rays, active, &mut NoStats)
         );
         assert_eq!(blocked & !active, 0);
         for i in (0..BATCH).filter(|i| active >> i & 1 == 0) {
@@ -184,12 +241,12 @@ mod tests {
         for active in [ALL_LANES, 0, 0b1010_1010, 0b0101_0101] {
             check(&accel, &rays, active);
         }
-        let hits = ScalarKernel::intersect(&accel, &rays, ALL_LANES);
+        let hits = ScalarKernel::intersect(&accel, &rays, ALL_LANES, &mut NoStats);
         assert_eq!(hits[1].t, 1.0);
         assert_eq!(hits[7].t, 4.0);
         assert!(!hits[2].is_hit() && !hits[3].is_hit() && !hits[6].is_hit());
         assert_eq!(
-            ScalarKernel::occluded(&accel, &rays, ALL_LANES) & 0b1100_0110,
+            ScalarKernel::occluded(&accel, &rays, ALL_LANES, &mut NoStats) & 0b1100_0110,
             0b1000_0010
         );
     }

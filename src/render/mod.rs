@@ -8,13 +8,20 @@
 //! with a lane mask (or 8 scalar queries), and the shading between queries is the
 //! same scalar code for both kernels. Scalar and packet renders therefore trace
 //! the same rays and give the same images and ray counts.
+//!
+//! [`render_counted`] also counts the traversal work of every ray ([`counting`]):
+//! node visits, primitive tests and SIMD lane use, per tile and optionally per
+//! pixel. The counter is a type parameter of the tile loop, so [`render`] (and
+//! `bench scene`) compile without it.
 
 pub mod annotate;
 pub mod colormap;
+pub mod counting;
 pub mod engine;
 pub mod frame;
 pub mod grid;
 pub mod kernel;
+pub mod lane_costs;
 pub mod optics;
 pub mod output;
 pub mod progress;
@@ -32,6 +39,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 
+pub use counting::{Counting, Traversal};
 pub use frame::Frame;
 pub use grid::{Grid, for_each_block};
 pub use kernel::{Packet8Kernel, PacketKernel, ScalarKernel, TraceKernel};
@@ -40,14 +48,18 @@ pub use stats::RayCounts;
 pub use tiles::Tile;
 pub use whitted::Tracer;
 
-use crate::accel::Accel;
+use crate::accel::stats::{NoStats, Uncounted};
+use crate::accel::{Accel, CountedAccel, TraversalStats};
 use crate::camera::Camera;
 use crate::scene::Scene;
+use counting::{Tally, TileCounter};
 use kernel::BATCH;
+use lane_costs::LaneCosts;
 use whitted::lanes;
 
-/// A finished render: the frame, the tiles with their times, the ray counts.
-/// 192 bytes plus the frame's and the tiles' heap buffers.
+/// A finished render: the frame, the tiles with their times, the ray counts,
+/// the traversal statistics if counted. 304 bytes plus the frame's, the tiles'
+/// and the statistics' heap buffers.
 #[derive(Clone, Debug)]
 pub struct Render {
     /// The image and its primary hits (one entry per primary ray).
@@ -62,10 +74,13 @@ pub struct Render {
     pub trace_seconds: f64,
     /// Tiles per row.
     pub tiles_x: u32,
+    /// Traversal statistics of all the render's rays, counted while it was
+    /// timed; None when not counted.
+    pub traversal: Option<Traversal>,
 }
 
 /// Render `scene` through `accel` with `camera` on the threads of `pool`;
-/// `on_tile` is called as each tile finishes.
+/// `on_tile` is called as each tile finishes. Traversal is not counted.
 pub fn render<A: Accel>(
     scene: &Scene,
     accel: &A,
@@ -74,21 +89,58 @@ pub fn render<A: Accel>(
     pool: &rayon::ThreadPool,
     on_tile: impl Fn() + Sync,
 ) -> Render {
+    let accel = Uncounted(accel);
     match settings.kernel {
-        KernelKind::Scalar => render_with::<ScalarKernel, A>(scene, accel, camera, settings, pool, on_tile),
-        KernelKind::Packet8 => render_with::<Packet8Kernel, A>(scene, accel, camera, settings, pool, on_tile),
+        KernelKind::Scalar => {
+            render_with::<ScalarKernel, NoStats, _>(scene, &accel, camera, settings, pool, on_tile)
+        }
+        KernelKind::Packet8 => {
+            render_with::<Packet8Kernel, NoStats, _>(scene, &accel, camera, settings, pool, on_tile)
+        }
     }
 }
 
-/// One tile's pixels, in row-major order within the tile. 120 bytes plus buffers.
+/// [`render`], counting the traversal work of every ray as `counting` says.
+pub fn render_counted<A: CountedAccel>(
+    scene: &Scene,
+    accel: &A,
+    camera: &Camera,
+    settings: &RenderSettings,
+    counting: Counting,
+    pool: &rayon::ThreadPool,
+    on_tile: impl Fn() + Sync,
+) -> Render {
+    use KernelKind::{Packet8, Scalar};
+    match (settings.kernel, counting) {
+        (_, Counting::Off) => render(scene, accel, camera, settings, pool, on_tile),
+        (Scalar, Counting::Totals) => {
+            render_with::<ScalarKernel, TraversalStats, A>(scene, accel, camera, settings, pool, on_tile)
+        }
+        (Scalar, Counting::PerPixel) => {
+            render_with::<ScalarKernel, LaneCosts, A>(scene, accel, camera, settings, pool, on_tile)
+        }
+        (Packet8, Counting::Totals) => {
+            render_with::<Packet8Kernel, TraversalStats, A>(scene, accel, camera, settings, pool, on_tile)
+        }
+        (Packet8, Counting::PerPixel) => {
+            render_with::<Packet8Kernel, LaneCosts, A>(scene, accel, camera, settings, pool, on_tile)
+        }
+    }
+}
+
+/// One tile's pixels, in row-major order within the tile, and what it counted.
+/// 216 bytes plus buffers.
 struct TileOut {
     color: Vec<Vec3>,
     depth: Vec<f32>,
     prim: Vec<u32>,
+    /// Each pixel's traversal cost; empty unless counted per pixel.
+    cost: Vec<u64>,
     counts: RayCounts,
+    traversal: Option<TraversalStats>,
 }
 
-fn render_with<K: TraceKernel, A: Accel>(
+fn render_with<K: TraceKernel, C: TileCounter, A: CountedAccel>(
     scene: &Scene,
     accel: &A,
     camera: &Camera,
@@ -109,13 +161,14 @@ fn render_with<K: TraceKernel, A: Accel>(
     let done = tiles::run(
         pool,
         &tiles,
-        |tile| trace_tile::<K, A>(&tracer, &grid, tile, settings),
+        |tile| trace_tile::<K, C, A>(&tracer, &grid, tile, settings),
         on_tile,
     );
     let trace_seconds = start.elapsed().as_secs_f64();
 
-    // Assemble the frame from the tiles.
+    // Assemble the frame (and the pixel costs) from the tiles.
     let mut frame = Frame::new(grid.width, grid.height);
+    let mut pixel_cost = vec![0; if C::PER_PIXEL { frame.prim.len() } else { 0 }];
     for (tile, out) in tiles.iter().zip(&done) {
         for row in 0..tile.height {
             let src = (row * tile.width) as usize..((row + 1) * tile.width) as usize;
@@ -123,12 +176,27 @@ fn render_with<K: TraceKernel, A: Accel>(
             let dst = dst..dst + tile.width as usize;
             frame.color[dst.clone()].copy_from_slice(&out.value.color[src.clone()]);
             frame.depth[dst.clone()].copy_from_slice(&out.value.depth[src.clone()]);
-            frame.prim[dst].copy_from_slice(&out.value.prim[src]);
+            frame.prim[dst.clone()].copy_from_slice(&out.value.prim[src.clone()]);
+            if C::PER_PIXEL {
+                pixel_cost[dst].copy_from_slice(&out.value.cost[src]);
+            }
         }
     }
     if settings.mode == Mode::Depth {
         frame.color = shade::depth(&frame.depth);
     }
+    let traversal = done
+        .iter()
+        .map(|d| d.value.traversal)
+        .collect::<Option<Vec<_>>>()
+        .map(|per_tile| Traversal {
+            total: per_tile.iter().fold(TraversalStats::default(), |mut t, s| {
+                t += s;
+                t
+            }),
+            tiles: per_tile,
+            pixel_cost: C::PER_PIXEL.then_some(pixel_cost),
+        });
     Render {
         frame,
         tile_seconds: done.iter().map(|d| d.seconds).collect(),
@@ -136,44 +204,53 @@ fn render_with<K: TraceKernel, A: Accel>(
         tiles,
         trace_seconds,
         tiles_x: grid.width.div_ceil(tile_size),
+        traversal,
     }
 }
 
-fn trace_tile<K: TraceKernel, A: Accel>(
+fn trace_tile<K: TraceKernel, C: TileCounter, A: CountedAccel>(
     tracer: &Tracer<A>,
     grid: &Grid,
     tile: &Tile,
     settings: &RenderSettings,
 ) -> TileOut {
     let n = tile.pixels();
-    let mut out = TileOut {
-        color: vec![Vec3::ZERO; n],
-        depth: vec![f32::INFINITY; n],
-        prim: vec![crate::ray::NO_HIT; n],
-        counts: RayCounts::default(),
-    };
+    let mut color = vec![Vec3::ZERO; n];
+    let mut depth = vec![f32::INFINITY; n];
+    let mut prim = vec![crate::ray::NO_HIT; n];
+    let mut cost = vec![0; if C::PER_PIXEL { n } else { 0 }];
+    let mut tally = Tally::<C>::default();
     let scene = tracer.scene;
     for_each_block(grid, tile, settings.block, |rays, active, index| {
-        let hits = K::intersect(tracer.accel, rays, active);
-        out.counts.eye_rays += u64::from(active.count_ones());
-        out.counts.eye_hits += lanes(active).filter(|&i| hits[i].is_hit()).count() as u64;
-        let color: [Vec3; BATCH] = match settings.mode {
-            Mode::Whitted => tracer.shade::<K>(rays, active, &hits, 1, &mut out.counts),
+        let hits = K::intersect(tracer.accel, rays, active, &mut tally.traversal);
+        tally.rays.eye_rays += u64::from(active.count_ones());
+        tally.rays.eye_hits += lanes(active).filter(|&i| hits[i].is_hit()).count() as u64;
+        let shaded: [Vec3; BATCH] = match settings.mode {
+            Mode::Whitted => tracer.shade::<K, C>(rays, active, &hits, 1, &mut tally),
             Mode::Cast => std::array::from_fn(|i| shade::cast(scene, &rays[i], &hits[i])),
             Mode::Normals => std::array::from_fn(|i| shade::normals(scene, &rays[i], &hits[i])),
             Mode::Id => std::array::from_fn(|i| shade::id(&hits[i])),
             // Depth needs the whole image's range: coloured after the trace.
             Mode::Depth => [Vec3::ZERO; BATCH],
         };
+        // The batch's ray trees are done: each lane's cost is its pixel's.
+        tally.traversal.end_batch(active, index, &mut cost);
         for i in lanes(active) {
-            out.color[index[i]] = color[i];
-            out.depth[index[i]] = if hits[i].is_hit() {
+            color[index[i]] = shaded[i];
+            depth[index[i]] = if hits[i].is_hit() {
                 hits[i].t
             } else {
                 f32::INFINITY
             };
-            out.prim[index[i]] = hits[i].prim;
+            prim[index[i]] = hits[i].prim;
         }
     });
-    out
+    TileOut {
+        color,
+        depth,
+        prim,
+        cost,
+        counts: tally.rays,
+        traversal: tally.traversal.totals(),
+    }
 }

@@ -7,7 +7,9 @@
 //! All queries of one level go through the [`TraceKernel`] as batches with lane
 //! masks: one shadow batch per light, one reflection batch, one refraction batch,
 //! each traced recursively as a whole. The shading itself is scalar per lane and
-//! shared by both kernels, so scalar and packet renders spawn the same rays.
+//! shared by both kernels, so scalar and packet renders spawn the same rays. A
+//! secondary or shadow ray stays in its pixel's lane, so a lane's traversal
+//! cost is its pixel's whole ray tree.
 //!
 //! Light: `Σ_lights s·c_l·(Kd·C·⟨n, l⟩ + Ks·⟨r, v⟩^shine)` over unblocked lights,
 //! plus an ambient `0.1·Kd·C` so shadows are not pitch black, plus `Ks` times the
@@ -17,9 +19,9 @@
 
 use glam::Vec3;
 
-use crate::accel::Accel;
+use crate::accel::CountedAccel;
 use crate::ray::{Hit, Ray};
-use crate::render::RayCounts;
+use crate::render::counting::{Tally, TileCounter};
 use crate::render::kernel::{BATCH, Rays, TraceKernel};
 use crate::render::optics::{self, Secondary};
 use crate::render::surface::Surface;
@@ -69,28 +71,28 @@ pub(crate) fn lanes(mask: u32) -> impl Iterator<Item = usize> {
     (0..BATCH).filter(move |i| mask >> i & 1 == 1)
 }
 
-impl<A: Accel> Tracer<'_, A> {
+impl<A: CountedAccel> Tracer<'_, A> {
     /// Trace the lanes of `active` at `depth` and return their colours.
-    pub fn trace<K: TraceKernel>(
+    pub fn trace<K: TraceKernel, C: TileCounter>(
         &self,
         rays: &Rays,
         active: u32,
         depth: u32,
-        counts: &mut RayCounts,
+        tally: &mut Tally<C>,
     ) -> [Vec3; BATCH] {
-        let hits = K::intersect(self.accel, rays, active);
-        self.shade::<K>(rays, active, &hits, depth, counts)
+        let hits = K::intersect(self.accel, rays, active, &mut tally.traversal);
+        self.shade::<K, C>(rays, active, &hits, depth, tally)
     }
 
     /// Colours of the lanes of `active` whose nearest hits are `hits`: the
     /// background where nothing was hit, Whitted shading elsewhere.
-    pub fn shade<K: TraceKernel>(
+    pub fn shade<K: TraceKernel, C: TileCounter>(
         &self,
         rays: &Rays,
         active: u32,
         hits: &[Hit; BATCH],
         depth: u32,
-        counts: &mut RayCounts,
+        tally: &mut Tally<C>,
     ) -> [Vec3; BATCH] {
         let scene = self.scene;
         let mut color = [scene.background; BATCH];
@@ -103,21 +105,21 @@ impl<A: Accel> Tracer<'_, A> {
             let m = surfaces[i].as_ref().expect("hit lane").material;
             color[i] = AMBIENT * m.kd * m.color;
         }
-        self.add_direct_light::<K>(rays, hit_mask, &surfaces, &mut color, counts);
+        self.add_direct_light::<K, C>(rays, hit_mask, &surfaces, &mut color, tally);
         if depth < self.max_depth {
-            self.add_secondary::<K>(rays, hit_mask, &surfaces, depth, &mut color, counts);
+            self.add_secondary::<K, C>(rays, hit_mask, &surfaces, depth, &mut color, tally);
         }
         color
     }
 
     /// Phong terms of every light, each light's shadow rays traced as one batch.
-    fn add_direct_light<K: TraceKernel>(
+    fn add_direct_light<K: TraceKernel, C: TileCounter>(
         &self,
         rays: &Rays,
         hit_mask: u32,
         surfaces: &[Option<Surface>; BATCH],
         color: &mut [Vec3; BATCH],
-        counts: &mut RayCounts,
+        tally: &mut Tally<C>,
     ) {
         let lights = &self.scene.lights;
         if lights.is_empty() || hit_mask == 0 {
@@ -142,9 +144,9 @@ impl<A: Accel> Tracer<'_, A> {
                 continue;
             }
             // Step 2: which of them something blocks.
-            let blocked = K::occluded(self.accel, &shadow, mask);
-            counts.shadow_rays += u64::from(mask.count_ones());
-            counts.shadow_blocked += u64::from(blocked.count_ones());
+            let blocked = K::occluded(self.accel, &shadow, mask, &mut tally.traversal);
+            tally.rays.shadow_rays += u64::from(mask.count_ones());
+            tally.rays.shadow_blocked += u64::from(blocked.count_ones());
             // Step 3: diffuse and specular light where nothing does.
             for i in lanes(mask & !blocked) {
                 let s = surfaces[i].as_ref().expect("hit lane");
@@ -163,14 +165,14 @@ impl<A: Accel> Tracer<'_, A> {
 
     /// Reflected and refracted colour: the secondary rays of every lane, traced
     /// one level deeper as two batches.
-    fn add_secondary<K: TraceKernel>(
+    fn add_secondary<K: TraceKernel, C: TileCounter>(
         &self,
         rays: &Rays,
         hit_mask: u32,
         surfaces: &[Option<Surface>; BATCH],
         depth: u32,
         color: &mut [Vec3; BATCH],
-        counts: &mut RayCounts,
+        tally: &mut Tally<C>,
     ) {
         let mut reflect = Batch::new(rays);
         let mut refract = Batch::new(rays);
@@ -180,13 +182,13 @@ impl<A: Accel> Tracer<'_, A> {
             reflect.set(i, s.point, scatter.reflect, self.epsilon);
             refract.set(i, s.point, scatter.refract, self.epsilon);
         }
-        counts.reflect_rays += u64::from(reflect.mask.count_ones());
-        counts.refract_rays += u64::from(refract.mask.count_ones());
+        tally.rays.reflect_rays += u64::from(reflect.mask.count_ones());
+        tally.rays.refract_rays += u64::from(refract.mask.count_ones());
         for batch in [reflect, refract] {
             if batch.mask == 0 {
                 continue;
             }
-            let traced = self.trace::<K>(&batch.rays, batch.mask, depth + 1, counts);
+            let traced = self.trace::<K, C>(&batch.rays, batch.mask, depth + 1, tally);
             for i in lanes(batch.mask) {
                 color[i] += batch.weight[i] * traced[i];
             }

@@ -49,7 +49,7 @@ pub mod wide;
 pub use build_sah::{BuildOptions, MAX_DEPTH};
 
 use crate::accel::Accel;
-use crate::accel::stats::{AccelWithStats, NoStats, TraversalStats};
+use crate::accel::stats::{AccelWithStats, CountedAccel, Counter, NoStats};
 use crate::bounds::Aabb;
 use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
@@ -268,24 +268,27 @@ impl Accel for Bvh {
     }
 }
 
-impl AccelWithStats for Bvh {
-    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit {
+// The query entry points are generic over the counter already.
+impl CountedAccel for Bvh {
+    fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
         traverse_single::intersect(self, ray, stats)
     }
 
-    fn intersect_packet_with_stats<F: SimdFloat>(
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
         &self,
         rays: &RayPacket<F>,
-        stats: &mut TraversalStats,
+        stats: &mut S,
     ) -> HitPacket<F> {
         traverse_packet::intersect_packet(self, rays, stats)
     }
 
-    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         occlusion::occluded(self, ray, stats)
     }
 
-    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F {
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
         occlusion::occluded_packet(self, rays, stats)
     }
 }
+
+impl AccelWithStats for Bvh {}

@@ -124,6 +124,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
                 stats.fallback(u64::from(lanes.count_ones()));
                 let mut bits = lanes;
                 while bits != 0 {
+                    stats.lane(bits.trailing_zeros() as usize);
                     query.finish_single(bvh, start, bits.trailing_zeros() as usize, stats);
                     bits &= bits - 1;
                 }
