@@ -12,6 +12,7 @@ use crate::geometry::plane::Plane;
 use crate::geometry::{Polygon, Primitive, Sphere, Transformed, Triangle};
 use crate::ray::Ray;
 use crate::rng::Rng;
+use crate::scene::CameraSpec;
 
 /// The edge length of the cube a primitive of an `n`-primitive scene roughly fills.
 fn cell(n: usize) -> f32 {
@@ -180,27 +181,11 @@ pub fn bumpy_sphere(n: usize, seed: u64) -> Vec<Primitive> {
     prims
 }
 
-/// A camera at `width × height` looking at the box from the +z side, framing its
-/// bounding sphere with a vertical field of view of at most 40° (square pixels).
-/// The lecture's primary rays start on the image plane, one unit in front of the
-/// eye, so the eye stands at least `1 + 2·radius` away and the field of view
-/// narrows to fit small scenes.
+/// The camera of [`CameraSpec::framing`] at `width × height`.
 pub fn framing_camera(bounds: Aabb, width: u32, height: u32) -> Camera {
-    let center = bounds.center();
-    let radius = (0.5 * bounds.extent().length()).max(1e-3);
-    let distance = (radius / 20f32.to_radians().sin()).max(1.0 + 2.0 * radius);
-    let fovy = 2.0 * (radius / distance).asin().to_degrees();
-    let fovx = 2.0 * ((fovy.to_radians() * 0.5).tan() * width as f32 / height as f32).atan();
-    Camera::new(
-        center + Vec3::new(0.0, 0.0, distance),
-        center,
-        Vec3::Y,
-        fovx.to_degrees(),
-        fovy,
-        width,
-        height,
-    )
-    .expect("a framing camera is valid")
+    CameraSpec::framing(bounds, width, height)
+        .camera()
+        .expect("a framing camera is valid")
 }
 
 /// `n` incoherent rays: origins uniform in `bounds`, directions uniform on the sphere.

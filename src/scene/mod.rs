@@ -86,6 +86,31 @@ pub struct CameraSpec {
 }
 
 impl CameraSpec {
+    /// A camera looking down −z at the centre of `bounds` that fits the box's
+    /// bounding sphere in the image. The lecture's primary rays start on the
+    /// image plane, one unit in front of the eye, so the eye stands at least
+    /// `1 + 2·radius` away (a small model would otherwise lie behind the image
+    /// plane and never be hit) and the field of view narrows to fit.
+    pub fn framing(bounds: Aabb, width: u32, height: u32) -> CameraSpec {
+        let (center, radius) = if bounds.is_empty() {
+            (Vec3::ZERO, 1.0)
+        } else {
+            (bounds.center(), (0.5 * bounds.extent().length()).max(1e-3))
+        };
+        let distance = (radius / 20f32.to_radians().sin()).max(1.0 + 2.0 * radius);
+        let fovy = 2.0 * (radius / distance).asin();
+        let fovx = 2.0 * ((0.5 * fovy).tan() * width as f32 / height as f32).atan();
+        CameraSpec {
+            eye: center + Vec3::new(0.0, 0.0, distance),
+            center,
+            up: Vec3::Y,
+            fovx: fovx.to_degrees(),
+            fovy: fovy.to_degrees(),
+            width,
+            height,
+        }
+    }
+
     /// The camera at the scene's own resolution.
     pub fn camera(&self) -> Result<Camera, CameraError> {
         self.camera_at(self.width, self.height)
@@ -160,21 +185,7 @@ impl Scene {
 
     /// A camera that frames the whole scene from the +z side, for files without one.
     pub fn default_camera(&self) -> CameraSpec {
-        let b = self.bounds();
-        let (center, radius) = if b.is_empty() {
-            (Vec3::ZERO, 1.0)
-        } else {
-            (b.center(), (0.5 * b.extent().length()).max(1e-3))
-        };
-        CameraSpec {
-            eye: center + Vec3::new(0.0, 0.0, 2.5 * radius),
-            center,
-            up: Vec3::Y,
-            fovx: 45.0,
-            fovy: 45.0,
-            width: 512,
-            height: 512,
-        }
+        CameraSpec::framing(self.bounds(), 512, 512)
     }
 }
 
@@ -261,5 +272,38 @@ pub fn geometry_message(e: &GeometryError) -> String {
         GeometryError::NotFinite => "expected finite coordinates, found NaN or infinity".into(),
         GeometryError::NotAffine => "expected an affine transform (bottom row 0 0 0 1), found another".into(),
         GeometryError::SingularTransform => "expected an invertible transform, found a singular one".into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::{Accel, BruteForce};
+    use crate::geometry::Sphere;
+
+    /// A model far smaller than the unit distance to the image plane (the
+    /// dragon is 0.27 units across) is in front of that plane and fills the
+    /// default camera's view.
+    #[test]
+    fn default_camera_sees_models_of_any_size() {
+        for radius in [0.05f32, 1.0, 300.0] {
+            let mut scene = Scene {
+                materials: vec![Material::default()],
+                ..Scene::default()
+            };
+            scene.push(
+                Primitive::Sphere(Sphere::new(Vec3::new(2.0, 0.5, -1.0), radius)),
+                0,
+            );
+            let camera = scene.default_camera().camera_at(33, 33).unwrap();
+            let brute = BruteForce::new(&scene.primitives);
+            let hits = (0..33 * 33)
+                .filter(|k| brute.intersect(&camera.pixel_ray(k % 33, k / 33)).is_hit())
+                .count();
+            // The view fits the box's bounding sphere, √3 times the sphere's
+            // radius: the sphere covers about π/4 · (1/√3)² ≈ 26% of the image.
+            assert!(hits > 33 * 33 / 5, "radius {radius}: {hits} hits");
+            assert!(brute.intersect(&camera.pixel_ray(16, 16)).is_hit());
+        }
     }
 }
