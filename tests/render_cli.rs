@@ -2,29 +2,14 @@
 //! error with exit code 2 and leaves no file behind; every scene file shipped
 //! in `scenes/` renders in every mode.
 
+mod cli_support;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+use cli_support::{raypack, scratch, stderr};
 
 use raypack::accel::BruteForce;
 use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render};
-
-fn raypack(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raypack"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("raypack-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 #[test]
 fn an_output_path_that_cannot_be_written_is_a_clear_error() {

@@ -3,10 +3,10 @@
 //! primitive tests, counting changes no pixel, and the cost heat map puts the
 //! cost where the geometry is.
 
+mod cli_support;
 mod render_support;
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use cli_support::{raypack, scratch, stderr};
 
 use glam::Vec3;
 use raypack::accel::{AccelKind, AccelWithStats, BruteForce, Bvh, TraversalStats};
@@ -217,24 +217,6 @@ fn pixels_on_the_sphere_cost_more_than_the_background() {
             assert_eq!(hm.value(x, y), hm.max());
         }
     }
-}
-
-fn raypack(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raypack"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("raypack-traversal-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// One sphere at the origin, seen from +z, as an NFF file.

@@ -28,44 +28,31 @@ pub enum Counting {
 /// A tile's traversal counter, told which batch lanes the queries trace.
 pub trait TileCounter: Counter + Default + Send {
     /// Whether [`end_batch`](Self::end_batch) hands out per-pixel costs.
-    const PER_PIXEL: bool;
+    const PER_PIXEL: bool = false;
 
     /// The queries that follow trace the batch lanes from `first` on: a
     /// packet's lane `j` is batch lane `first + j`, a single ray is lane `first`.
-    fn batch_lanes(&mut self, first: usize);
+    /// Only per-pixel counters care.
+    #[inline(always)]
+    fn batch_lanes(&mut self, _first: usize) {}
 
     /// Add the cost of each lane of `active` since the last call to
     /// `cost[index[lane]]`, and start every lane again from zero; does nothing
     /// unless [`PER_PIXEL`](Self::PER_PIXEL).
-    fn end_batch(&mut self, active: u32, index: &[usize; BATCH], cost: &mut [u64]);
+    #[inline(always)]
+    fn end_batch(&mut self, _active: u32, _index: &[usize; BATCH], _cost: &mut [u64]) {}
 
     /// The totals counted so far; None when nothing is counted.
     fn totals(&self) -> Option<TraversalStats>;
 }
 
 impl TileCounter for NoStats {
-    const PER_PIXEL: bool = false;
-
-    #[inline(always)]
-    fn batch_lanes(&mut self, _: usize) {}
-
-    #[inline(always)]
-    fn end_batch(&mut self, _: u32, _: &[usize; BATCH], _: &mut [u64]) {}
-
     fn totals(&self) -> Option<TraversalStats> {
         None
     }
 }
 
 impl TileCounter for TraversalStats {
-    const PER_PIXEL: bool = false;
-
-    #[inline(always)]
-    fn batch_lanes(&mut self, _: usize) {}
-
-    #[inline(always)]
-    fn end_batch(&mut self, _: u32, _: &[usize; BATCH], _: &mut [u64]) {}
-
     fn totals(&self) -> Option<TraversalStats> {
         Some(*self)
     }
