@@ -1,11 +1,12 @@
 //! `stats --spd` on the SPD files generated into `scenes/` (by `raypack gen`):
-//! identical counts for the scalar and packet kernels, and the published
+//! identical counts for the scalar and packet kernels and for the BVH and
+//! brute force, and the published
 //! counts within their stated 10% (tetra at size factor 4; the other
 //! full-size scenes take too long by brute force for a test, see the README).
 
 use std::path::PathBuf;
 
-use raypack::accel::BruteForce;
+use raypack::accel::{Accel, BruteForce, Bvh};
 use raypack::render::spd::spd_counts;
 use raypack::render::{KernelKind, RayCounts};
 
@@ -18,8 +19,30 @@ fn scene_path(name: &str) -> Option<PathBuf> {
 
 fn counts(path: &std::path::Path, kernel: KernelKind) -> RayCounts {
     let scene = raypack::scene::load(path).unwrap_or_else(|e| panic!("{e}"));
+    counts_with(&scene, &BruteForce::new(&scene.primitives), kernel)
+}
+
+fn counts_with(scene: &raypack::scene::Scene, accel: &impl Accel, kernel: KernelKind) -> RayCounts {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
-    spd_counts(&scene, &BruteForce::new(&scene.primitives), kernel, &pool).unwrap()
+    spd_counts(scene, accel, kernel, &pool).unwrap()
+}
+
+#[test]
+fn small_spd_scenes_count_the_same_with_the_bvh_and_brute_force() {
+    for name in [
+        "spd_tetra_small.nff",
+        "spd_balls_small.nff",
+        "spd_mount_small.nff",
+    ] {
+        let path = scene_path(name).expect("the SPD scenes are in scenes/");
+        let scene = raypack::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let bvh = Bvh::new(&scene.primitives);
+        for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
+            let brute = counts_with(&scene, &BruteForce::new(&scene.primitives), kernel);
+            assert_eq!(counts_with(&scene, &bvh, kernel), brute, "{name} {kernel:?}");
+            assert!(brute.eye_hits > 0 && brute.shadow_rays > 0, "{name}: {brute:?}");
+        }
+    }
 }
 
 #[test]
