@@ -1,4 +1,5 @@
-//! Generated scenes for the BVH's tests and the traversal benchmarks: random
+//! Generated primitives for tests, benchmarks and the engine comparisons
+//! (`gen:` scenes, [`test_scenes`](crate::compare::test_scenes)): random
 //! primitives of every kind in the cube `[-1, 1]³`, and a finely tessellated
 //! bumpy sphere standing in for a scanned mesh. Sizes shrink as `n^(-1/3)` so
 //! the density of the scene, not its overlap, stays the same as `n` grows.
@@ -47,23 +48,28 @@ pub fn random_triangles(n: usize, seed: u64) -> Vec<Primitive> {
         .collect()
 }
 
-/// A random planar polygon of about `size`: 3 to 8 vertices on a circle in a
-/// random plane, every other one pulled in for a concave star now and then.
+/// A random planar polygon of about `size` around a random point of
+/// `[-1, 1]³`: a regular polygon or a concave star of 3 to 12 points, in a
+/// random plane.
 fn random_polygon(rng: &mut Rng, size: f32) -> Polygon {
     let c = rng.point_in(Vec3::splat(-1.0), Vec3::splat(1.0));
-    let n = rng.unit_vector();
-    let u = n.any_orthonormal_vector();
-    let w = n.cross(u);
-    let count = 3 + rng.below(6) as usize;
-    let star = count >= 6 && rng.below(2) == 0;
-    let vertices: Vec<Vec3> = (0..count)
+    let rotation = Quat::from_axis_angle(rng.unit_vector(), rng.range(0.0, std::f32::consts::TAU));
+    let points = 3 + rng.below(10) as usize;
+    let star = rng.below(2) == 0;
+    let vertices: Vec<Vec3> = (0..if star { 2 * points } else { points })
         .map(|i| {
-            let a = i as f32 * std::f32::consts::TAU / count as f32;
-            let r = if star && i % 2 == 1 { 0.2 } else { 0.5 } * size;
-            c + r * (a.cos() * u + a.sin() * w)
+            let (r, a) = if star {
+                (
+                    if i % 2 == 0 { 0.5 } else { 0.2 },
+                    i as f32 * std::f32::consts::PI / points as f32,
+                )
+            } else {
+                (0.5, i as f32 * std::f32::consts::TAU / points as f32)
+            };
+            c + rotation * (size * r * Vec3::new(a.cos(), a.sin(), 0.0))
         })
         .collect();
-    Polygon::new(&vertices).expect("vertices on a circle are a valid polygon")
+    Polygon::new(&vertices).expect("a regular polygon or star is valid")
 }
 
 /// `n` random polygons, convex and concave.
@@ -76,22 +82,32 @@ pub fn random_polygons(n: usize, seed: u64) -> Vec<Primitive> {
 }
 
 /// `n` transformed primitives: unit spheres, triangles and polygons placed by
-/// random scale (anisotropic), rotation and translation matrices.
+/// random scale (anisotropic), rotation and translation matrices; one in five
+/// is nested in a second transform (a sheared object inside an instance).
 pub fn random_transformed(n: usize, seed: u64) -> Vec<Primitive> {
     let mut rng = Rng::new(seed);
     let size = cell(n);
     (0..n)
         .map(|i| {
-            let object = match i % 3 {
+            let mut object = match i % 3 {
                 0 => Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0)),
                 1 => Primitive::Triangle(random_triangle(&mut Rng::new(seed ^ i as u64), 1.0)),
                 _ => Primitive::Polygon(random_polygon(&mut Rng::new(seed ^ i as u64), 1.0)),
             };
+            if i % 5 == 0 {
+                let inner = Mat4::from_scale(Vec3::new(1.0, 0.5, 1.0)) * Mat4::from_rotation_z(0.7);
+                object = Primitive::Transformed(Box::new(
+                    Transformed::new(object, inner).expect("invertible transform"),
+                ));
+            }
+            // Centre the object on the origin first, so the matrix's translation places it.
+            let centre = object.bounds().map_or(Vec3::ZERO, |b| b.center());
             let scale = Vec3::new(rng.range(0.1, 0.5), rng.range(0.1, 0.5), rng.range(0.1, 0.5)) * size;
             let axis = rng.unit_vector();
             let rotation = Quat::from_axis_angle(axis, rng.range(0.0, std::f32::consts::TAU));
             let offset = rng.point_in(Vec3::splat(-1.0), Vec3::splat(1.0));
-            let m = Mat4::from_scale_rotation_translation(scale, rotation, offset);
+            let m = Mat4::from_scale_rotation_translation(scale, rotation, offset)
+                * Mat4::from_translation(-centre);
             Primitive::Transformed(Box::new(
                 Transformed::new(object, m).expect("invertible transform"),
             ))

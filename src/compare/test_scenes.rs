@@ -1,12 +1,13 @@
 //! Seeded scenes built in code, for comparing engines before (and besides) the
 //! scene files: random triangles, spheres, polygons, transformed objects and
-//! planes, a closed triangle mesh (shared edges everywhere), a sphereflake, and
-//! a mix of all of them. Each comes with a camera that frames it.
+//! planes (the generators of [`scenes`]), a closed triangle mesh (shared edges
+//! everywhere), a sphereflake, and a mix of all of them. Each comes with a
+//! camera that frames it.
 
-use glam::{Mat4, Quat, Vec3};
+use glam::{Quat, Vec3};
 
-use crate::geometry::{Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
-use crate::rng::Rng;
+use crate::bench::scenes;
+use crate::geometry::{Primitive, Sphere, Triangle};
 use crate::scene::{CameraSpec, Material, Scene};
 
 /// The generated scenes, by name.
@@ -23,27 +24,26 @@ pub const NAMES: [&str; 8] = [
 
 /// The scene called `name` (one of [`NAMES`]) with about `n` primitives, from `seed`.
 pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
-    let mut rng = Rng::new(seed);
     let prims = match name {
-        "triangles" => random_triangles(&mut rng, n),
-        "spheres" => random_spheres(&mut rng, n),
-        "polygons" => random_polygons(&mut rng, n),
-        "transformed" => random_transformed(&mut rng, n),
+        "triangles" => scenes::random_triangles(n, seed),
+        "spheres" => scenes::random_spheres(n, seed),
+        "polygons" => scenes::random_polygons(n, seed),
+        "transformed" => scenes::random_transformed(n, seed),
         "planes" => {
-            let mut p = random_spheres(&mut rng, n.saturating_sub(3));
-            p.extend(planes());
+            let mut p = scenes::random_spheres(n.saturating_sub(3), seed);
+            p.extend(scenes::bounding_planes());
             p
         }
         "mesh" => uv_sphere_mesh(Vec3::ZERO, 4.0, n),
         "sphereflake" => sphereflake(n),
         "mixed" => {
             let k = n / 5;
-            let mut p = random_triangles(&mut rng, k);
-            p.extend(random_spheres(&mut rng, k));
-            p.extend(random_polygons(&mut rng, k));
-            p.extend(random_transformed(&mut rng, k));
-            p.extend(uv_sphere_mesh(Vec3::new(0.0, 0.0, -2.0), 2.0, n - 4 * k));
-            p.extend(planes());
+            let mut p = scenes::random_triangles(k, seed);
+            p.extend(scenes::random_spheres(k, seed + 1));
+            p.extend(scenes::random_polygons(k, seed + 2));
+            p.extend(scenes::random_transformed(k, seed + 3));
+            p.extend(uv_sphere_mesh(Vec3::new(0.0, 0.0, -0.4), 0.4, n - 4 * k));
+            p.extend(scenes::bounding_planes());
             p
         }
         _ => return None,
@@ -100,106 +100,6 @@ pub fn scene_of(source: String, prims: Vec<Primitive>) -> Scene {
         height: 256,
     });
     scene
-}
-
-/// Triangles of random size and orientation in the cube `[-5, 5]³`.
-pub fn random_triangles(rng: &mut Rng, n: usize) -> Vec<Primitive> {
-    (0..n)
-        .map(|_| {
-            let c = rng.point_in(Vec3::splat(-5.0), Vec3::splat(5.0));
-            let size = rng.range(0.2, 1.5);
-            let [a, b, d] = [(); 3].map(|_| c + size * rng.unit_vector());
-            Primitive::Triangle(Triangle::new(a, b, d))
-        })
-        .collect()
-}
-
-/// Spheres of random radius in the cube `[-5, 5]³` (overlapping ones included).
-pub fn random_spheres(rng: &mut Rng, n: usize) -> Vec<Primitive> {
-    (0..n)
-        .map(|_| {
-            let c = rng.point_in(Vec3::splat(-5.0), Vec3::splat(5.0));
-            Primitive::Sphere(Sphere::new(c, rng.range(0.05, 0.6)))
-        })
-        .collect()
-}
-
-/// Random planar polygons: convex polygons and concave stars of 3–12 points,
-/// randomly oriented, in the cube `[-5, 5]³`.
-pub fn random_polygons(rng: &mut Rng, n: usize) -> Vec<Primitive> {
-    (0..n)
-        .map(|_| {
-            let c = rng.point_in(Vec3::splat(-5.0), Vec3::splat(5.0));
-            let rotation = Quat::from_axis_angle(rng.unit_vector(), rng.range(0.0, std::f32::consts::TAU));
-            let points = 3 + rng.below(10) as usize;
-            let star = rng.f32() < 0.5;
-            let size = rng.range(0.3, 1.2);
-            let vertices: Vec<Vec3> = (0..if star { 2 * points } else { points })
-                .map(|i| {
-                    let (r, a) = if star {
-                        (
-                            if i % 2 == 0 { 1.0 } else { 0.4 },
-                            i as f32 * std::f32::consts::PI / points as f32,
-                        )
-                    } else {
-                        (1.0, i as f32 * std::f32::consts::TAU / points as f32)
-                    };
-                    c + rotation * (size * r * Vec3::new(a.cos(), a.sin(), 0.0))
-                })
-                .collect();
-            Primitive::Polygon(Polygon::new(&vertices).expect("a regular polygon or star is valid"))
-        })
-        .collect()
-}
-
-/// Spheres, triangles and polygons under random rotations, non-uniform scales
-/// and translations (ellipsoids, sheared triangles), one in five nested twice.
-pub fn random_transformed(rng: &mut Rng, n: usize) -> Vec<Primitive> {
-    (0..n)
-        .map(|i| {
-            let object = match i % 3 {
-                0 => Primitive::Sphere(Sphere::new(Vec3::ZERO, 0.5)),
-                1 => random_triangles(rng, 1).remove(0),
-                _ => random_polygons(rng, 1).remove(0),
-            };
-            let random_matrix = |rng: &mut Rng| {
-                Mat4::from_scale_rotation_translation(
-                    Vec3::new(rng.range(0.3, 1.5), rng.range(0.3, 1.5), rng.range(0.3, 1.5)),
-                    Quat::from_axis_angle(rng.unit_vector(), rng.range(0.0, std::f32::consts::TAU)),
-                    rng.point_in(Vec3::splat(-4.0), Vec3::splat(4.0)),
-                )
-            };
-            let mut m = random_matrix(rng);
-            let mut prim = object;
-            if i % 5 == 0 {
-                let inner = Mat4::from_scale(Vec3::new(1.0, 0.5, 1.0)) * Mat4::from_rotation_z(0.7);
-                prim = Primitive::Transformed(Box::new(Transformed::new(prim, inner).expect("invertible")));
-                m = random_matrix(rng);
-            }
-            // Centre the object on the origin first, so the matrix's translation places it.
-            let object_centre = prim.bounds().map_or(Vec3::ZERO, |b| b.center());
-            m *= Mat4::from_translation(-object_centre);
-            Primitive::Transformed(Box::new(Transformed::new(prim, m).expect("invertible")))
-        })
-        .collect()
-}
-
-/// Three infinite planes, one of each form: a floor, a tilted back wall, a side wall.
-pub fn planes() -> Vec<Primitive> {
-    vec![
-        Primitive::Plane(Plane::implicit(0.0, 1.0, 0.0, 6.0).expect("valid")),
-        Primitive::Plane(
-            Plane::point_normal(Vec3::new(0.0, 0.0, -7.0), Vec3::new(0.1, 0.2, 1.0)).expect("valid"),
-        ),
-        Primitive::Plane(
-            Plane::parametric(
-                Vec3::new(8.0, 0.0, 0.0),
-                Vec3::new(0.0, 1.0, 0.1),
-                Vec3::new(0.2, 0.0, 1.0),
-            )
-            .expect("valid"),
-        ),
-    ]
 }
 
 /// A closed UV-sphere triangle mesh of about `n` triangles: every edge is shared
