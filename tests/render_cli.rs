@@ -178,3 +178,32 @@ fn asking_for_embree_without_the_feature_is_a_clear_error() {
     assert!(stderr(&o).contains("embree"), "{}", stderr(&o));
     assert!(!out.exists());
 }
+
+#[test]
+fn stats_prints_the_spd_counts_as_json_and_the_traversal_work_on_stderr() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_tetra_small.nff");
+    for accel in ["bvh", "none"] {
+        let o = raypack(&["stats", scene, "--spd", "--accel", accel]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let counts: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON on stdout");
+        let keys = [
+            "eye_rays",
+            "eye_hits",
+            "reflect_rays",
+            "refract_rays",
+            "shadow_rays",
+            "shadow_blocked",
+        ];
+        for key in keys {
+            assert!(counts[key].is_u64(), "{key}: {counts}");
+        }
+        assert_eq!(counts["eye_rays"], 513 * 513);
+        let e = stderr(&o);
+        assert!(
+            e.contains("traversal, counted in this run:") && e.contains("prims/ray"),
+            "{e}"
+        );
+        // Brute force visits no nodes; the BVH does.
+        assert_eq!(e.contains(" 0.0 nodes/ray"), accel == "none", "{e}");
+    }
+}

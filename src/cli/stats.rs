@@ -1,17 +1,19 @@
 //! `raypack stats SCENE --spd`: a scene's ray counts under the SPD's test
-//! procedure, as one JSON object. (`--spd` names the procedure; it is the only
-//! one so far, so the flag is required.)
+//! procedure, as one JSON object on stdout; the time and the traversal work it
+//! took go to stderr. (`--spd` names the procedure; it is the only one so far,
+//! so the flag is required.)
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args as ClapArgs;
 
-use crate::accel::Accel;
+use crate::accel::stats::CountedAccel;
+use crate::accel::{Accel, TraversalStats};
 use crate::cli::render::{load_scene, thread_pool};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, WithAccel, with_accel};
-use crate::render::spd::spd_counts;
+use crate::render::spd::{spd_counts, spd_counts_with_traversal};
 use crate::render::{KernelKind, RayCounts};
 use crate::scene::Scene;
 
@@ -34,7 +36,8 @@ pub struct Args {
     pub accel: AccelKind,
 }
 
-/// SPD counts with the time they took (reported on stderr, apart from the counts).
+/// SPD counts with the setup and trace time and the traversal work they took
+/// (reported on stderr, apart from the counts).
 struct Spd<'a> {
     scene: &'a Scene,
     kernel: KernelKind,
@@ -42,12 +45,23 @@ struct Spd<'a> {
 }
 
 impl WithAccel for Spd<'_> {
-    type Output = Result<(RayCounts, f64, f64), crate::camera::CameraError>;
+    type Output = Result<(RayCounts, f64, f64, Option<TraversalStats>), crate::camera::CameraError>;
 
     fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
         let start = Instant::now();
         let counts = spd_counts(self.scene, accel, self.kernel, self.pool)?;
-        Ok((counts, setup_seconds, start.elapsed().as_secs_f64()))
+        Ok((counts, setup_seconds, start.elapsed().as_secs_f64(), None))
+    }
+
+    fn run_counted<A: CountedAccel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
+        let start = Instant::now();
+        let (counts, traversal) = spd_counts_with_traversal(self.scene, accel, self.kernel, self.pool)?;
+        Ok((
+            counts,
+            setup_seconds,
+            start.elapsed().as_secs_f64(),
+            Some(traversal),
+        ))
     }
 }
 
@@ -60,7 +74,7 @@ pub fn run(args: Args) -> CliResult {
         kernel: args.kernel,
         pool: &pool,
     };
-    let (counts, setup, trace) = with_accel(&scene, args.accel, job)
+    let (counts, setup, trace, traversal) = with_accel(&scene, args.accel, job)
         .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", args.scene.display())))?;
     eprintln!(
         "spd: {} kernel, accel {}, {} threads: setup {:.1} ms, trace {:.1} ms",
@@ -70,6 +84,9 @@ pub fn run(args: Args) -> CliResult {
         1e3 * setup,
         1e3 * trace
     );
+    if let Some(t) = traversal {
+        eprintln!("spd: traversal, counted in this run: {}", t.caption());
+    }
     println!("{}", serde_json::to_string(&counts).map_err(anyhow::Error::from)?);
     Ok(())
 }

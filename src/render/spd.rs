@@ -10,9 +10,11 @@
 //! files they should lie within 10% of the published figures, and they are the
 //! same for the scalar and the packet kernels.
 
-use crate::accel::Accel;
-use crate::camera::CameraError;
-use crate::render::{Block, KernelKind, Mode, RayCounts, RenderSettings, Sampling, render};
+use crate::accel::stats::CountedAccel;
+use crate::accel::{Accel, TraversalStats};
+use crate::camera::{Camera, CameraError};
+use crate::render::counting::Counting;
+use crate::render::{Block, KernelKind, Mode, RayCounts, RenderSettings, Sampling, render, render_counted};
 use crate::scene::Scene;
 
 /// Image edge of the SPD's test procedure.
@@ -41,7 +43,26 @@ pub fn spd_counts<A: Accel>(
     kernel: KernelKind,
     pool: &rayon::ThreadPool,
 ) -> Result<RayCounts, CameraError> {
-    let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
-    let camera = spec.camera_at(SPD_SIZE, SPD_SIZE)?;
+    let camera = spd_camera(scene)?;
     Ok(render(scene, accel, &camera, &spd_settings(kernel), pool, || {}).counts)
+}
+
+/// [`spd_counts`], and the traversal work of all those rays.
+pub fn spd_counts_with_traversal<A: CountedAccel>(
+    scene: &Scene,
+    accel: &A,
+    kernel: KernelKind,
+    pool: &rayon::ThreadPool,
+) -> Result<(RayCounts, TraversalStats), CameraError> {
+    let camera = spd_camera(scene)?;
+    let settings = spd_settings(kernel);
+    let r = render_counted(scene, accel, &camera, &settings, Counting::Totals, pool, || {});
+    let traversal = r.traversal.map(|t| t.total).unwrap_or_default();
+    Ok((r.counts, traversal))
+}
+
+/// The scene's camera (or the default one) at the SPD's resolution.
+fn spd_camera(scene: &Scene) -> Result<Camera, CameraError> {
+    let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
+    spec.camera_at(SPD_SIZE, SPD_SIZE)
 }
