@@ -38,3 +38,32 @@ fn rows_carry_consistent_ratios() {
         assert_eq!(r["hits"], rows[0]["hits"], "every variant traces the same rays");
     }
 }
+
+/// A generated scene (`gen:NAME:N:SEED`, as `check` takes) is benchmarked like
+/// a file, under its spec; a bad spec is the user's error (exit 2).
+#[test]
+fn generated_scenes_are_accepted_and_bad_specs_rejected() {
+    let run = |spec: &str| {
+        Command::new(env!("CARGO_BIN_EXE_raypack"))
+            .args(["bench", "scene", spec, "--size", "32x16", "--runs", "1"])
+            .args(["--threads", "1", "--kernel", "packet8", "--json"])
+            .output()
+            .expect("raypack runs")
+    };
+    let out = run("gen:mesh:2000:3");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let row = &rows.as_array().expect("an array of rows")[0];
+    assert_eq!(row["scene"], "gen:mesh:2000:3");
+    assert!(
+        row["hits"].as_u64().unwrap() > 0,
+        "the framing camera sees the mesh"
+    );
+
+    for bad in ["gen:nothing:10", "gen:mesh:many"] {
+        let out = run(bad);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(bad.split(':').nth(1).unwrap()), "{bad}: {stderr}");
+    }
+}

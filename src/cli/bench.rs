@@ -1,13 +1,14 @@
 //! `raypack bench …`: throughput measurements printed as a table or JSON.
 
-use std::path::PathBuf;
+use std::path::Path;
 use std::time::Duration;
 
 use clap::{Args, Subcommand};
 
 use crate::bench::kernels::{Measure, for_each_setup};
 use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure};
-use crate::cli::render::{load_scene, parse_size, scene_camera};
+use crate::cli::render::{parse_size, scene_camera};
+use crate::cli::scene_arg;
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, KernelKind};
@@ -200,8 +201,8 @@ fn kernels(args: KernelsArgs) -> CliResult {
 /// Options of `bench scene`.
 #[derive(Args, Debug)]
 pub struct SceneArgs {
-    /// Scene file.
-    pub scene: PathBuf,
+    /// Scene file, or `gen:NAME[:N[:SEED]]` for a generated scene (as in `check`).
+    pub scene: String,
     /// Thread counts to measure, comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = [1u16, 2], value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub threads: Vec<u16>,
@@ -304,8 +305,8 @@ fn engine_name(engine: Engine) -> &'static str {
 }
 
 fn scene(args: SceneArgs) -> CliResult {
-    let (scene, _) = load_scene(&args.scene)?;
-    let camera = scene_camera(&scene, &args.scene, args.size)?;
+    let scene = scene_arg::load_scene(&args.scene)?;
+    let camera = scene_camera(&scene, Path::new(&args.scene), args.size)?;
     let frame = PrimaryFrame::new(&camera, args.tile);
     let mut variants = Vec::new();
     for &kernel in &args.kernel {
@@ -319,10 +320,9 @@ fn scene(args: SceneArgs) -> CliResult {
             }
         }
     }
-    let name = args.scene.file_name().map_or_else(
-        || args.scene.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
+    let name = Path::new(&args.scene)
+        .file_name()
+        .map_or_else(|| args.scene.clone(), |n| n.to_string_lossy().into_owned());
     let mut rows: Vec<SceneRow> = Vec::new();
     for &engine in &args.engine {
         let job = SceneJob {

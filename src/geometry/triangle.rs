@@ -33,6 +33,9 @@ const EDGE_EPSILON: f32 = 1.0 / (1 << 20) as f32;
 /// Dropped-axis value marking a zero-area triangle, which every ray misses.
 const DEGENERATE: u32 = 3;
 
+/// The two axes kept by the projection that drops axis `k`: `(k + 1) % 3`, `(k + 2) % 3`.
+const OTHER_AXES: [[usize; 2]; 3] = [[1, 2], [2, 0], [0, 1]];
+
 /// A triangle: its vertices, its projected-barycentric constants and the scale
 /// of its normal. 80 bytes (36 of vertices, 40 of constants, 4 of scale).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -187,8 +190,10 @@ impl Intersect for ProjectedTriangle {
         if k == DEGENERATE as usize {
             return false;
         }
-        let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
-        let (o, d) = (ray.origin, ray.dir);
+        // Index plain arrays with a table of the other two axes: indexing a
+        // `Vec3` by a runtime axis compiles to a chain of branches.
+        let [ku, kv] = OTHER_AXES[k];
+        let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
         let denom = d[k] + self.n_u * d[ku] + self.n_v * d[kv];
         if !usable_denominator(denom) {
             return false;
@@ -215,7 +220,7 @@ impl Intersect for ProjectedTriangle {
         if k == DEGENERATE as usize {
             return;
         }
-        let (ku, kv) = ((k + 1) % 3, (k + 2) % 3);
+        let [ku, kv] = OTHER_AXES[k];
         let (o, d) = (&rays.origin, &rays.dir);
         let (n_u, n_v) = (F::splat(self.n_u), F::splat(self.n_v));
         let denom = d.axis(k) + n_u * d.axis(ku) + n_v * d.axis(kv);
