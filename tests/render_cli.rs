@@ -207,3 +207,55 @@ fn stats_prints_the_spd_counts_as_json_and_the_traversal_work_on_stderr() {
         assert_eq!(e.contains(" 0.0 nodes/ray"), accel == "none", "{e}");
     }
 }
+
+/// A scene without lights (here a PLY mesh, which cannot carry any) gets a
+/// headlight at the eye in whitted mode: said on stderr, in the caption's
+/// light count and in the sidecar, and it lights the surface the eye sees.
+/// `--no-headlight` leaves the scene unlit (ambient only, a darker image).
+#[test]
+fn a_scene_without_lights_gets_a_headlight_unless_told_not_to() {
+    let dir = scratch("headlight");
+    let ply = dir.join("quad.ply");
+    std::fs::write(
+        &ply,
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+         element face 2\nproperty list uchar int vertex_indices\nend_header\n\
+         -1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n3 0 1 2\n3 0 2 3\n",
+    )
+    .unwrap();
+    let brightness = |extra: &[&str]| {
+        let (png, json) = (dir.join("out.png"), dir.join("out.json"));
+        let mut args = vec!["render", ply.to_str().unwrap(), "-o", png.to_str().unwrap()];
+        args.extend([
+            "--size",
+            "32x32",
+            "--no-caption",
+            "--stats-json",
+            json.to_str().unwrap(),
+        ]);
+        args.extend(extra);
+        let o = raypack(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        let image = image::open(&png).unwrap().to_luma8();
+        let mean = image.pixels().map(|p| f64::from(p.0[0])).sum::<f64>() / 1024.0;
+        (stderr(&o), report, mean)
+    };
+    let (lit_err, lit, lit_mean) = brightness(&[]);
+    assert!(lit_err.contains("headlight"), "{lit_err}");
+    assert_eq!(
+        (lit["lights"].as_u64(), lit["headlight"].as_bool()),
+        (Some(1), Some(true))
+    );
+    let (dark_err, dark, dark_mean) = brightness(&["--no-headlight"]);
+    assert!(!dark_err.contains("headlight"), "{dark_err}");
+    assert_eq!(
+        (dark["lights"].as_u64(), dark["headlight"].as_bool()),
+        (Some(0), Some(false))
+    );
+    assert!(lit_mean > 2.0 * dark_mean, "lit {lit_mean} vs unlit {dark_mean}");
+    // Other modes need no light and get none.
+    let (_, normals, _) = brightness(&["--mode", "normals"]);
+    assert_eq!(normals["lights"].as_u64(), Some(0));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

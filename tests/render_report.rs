@@ -43,6 +43,7 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
         max_depth: 4,
         load_seconds: 0.001,
         setup_seconds: 0.002,
+        headlight: false,
     };
     let report = RenderReport::new(&scene, &out, &info);
     let json: serde_json::Value = serde_json::to_value(&report).unwrap();

@@ -358,6 +358,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
         max_depth: 5,
         load_seconds: 0.0,
         setup_seconds: 0.0,
+        headlight: false,
     };
     let report = raypack::render::report::RenderReport::new(&scene, &plain, &info);
     assert!(

@@ -17,7 +17,8 @@ use crate::render::report::{RenderReport, RunInfo};
 use crate::render::{
     Block, Counting, KernelKind, Mode, Render, RenderSettings, Sampling, render, render_counted,
 };
-use crate::scene::Scene;
+use crate::scene::{Light, Scene};
+use glam::Vec3;
 
 /// Options of `render`.
 #[derive(ClapArgs, Debug)]
@@ -65,6 +66,10 @@ pub struct Args {
     /// Also write the numbers as JSON to this file.
     #[arg(long)]
     pub stats_json: Option<PathBuf>,
+    /// Keep a scene without lights unlit in whitted mode (ambient only)
+    /// instead of lighting it with a headlight, a white light at the eye.
+    #[arg(long)]
+    pub no_headlight: bool,
     /// Do not count traversal statistics (nodes, primitive tests and SIMD lanes
     /// per ray) during the render, for the last few percent of speed.
     #[arg(long)]
@@ -183,8 +188,21 @@ pub fn run(args: Args) -> CliResult {
         .transpose()
         .map_err(output_error)?;
 
-    let (scene, load_seconds) = load_scene(&args.scene)?;
+    let (mut scene, load_seconds) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, &args.scene, args.size)?;
+    // PLY and OBJ meshes carry no lights, and an NFF file may have none; in
+    // whitted mode such a scene would show flat ambient grey.
+    let headlight = args.mode == Mode::Whitted && scene.lights.is_empty() && !args.no_headlight;
+    if headlight {
+        eprintln!(
+            "note: {} has no lights: lighting it with a headlight at the eye (--no-headlight to keep it unlit)",
+            args.scene.display()
+        );
+        scene.lights.push(Light {
+            position: camera.eye,
+            color: Vec3::ONE,
+        });
+    }
     let pool = thread_pool(args.threads)?;
     let settings = RenderSettings {
         mode: args.mode,
@@ -222,6 +240,7 @@ pub fn run(args: Args) -> CliResult {
             max_depth: args.depth,
             load_seconds,
             setup_seconds,
+            headlight,
         },
     );
     let image = if args.no_caption {

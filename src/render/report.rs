@@ -45,6 +45,9 @@ pub struct RenderReport {
     pub primitive_kinds: BTreeMap<String, usize>,
     /// Lights.
     pub lights: usize,
+    /// Whether the one light is a headlight at the eye, added because the
+    /// scene has none (see `render --no-headlight`).
+    pub headlight: bool,
     /// Milliseconds spent reading the scene.
     pub load_ms: f64,
     /// Milliseconds spent building the acceleration structure.
@@ -144,6 +147,8 @@ pub struct RunInfo {
     pub load_seconds: f64,
     /// Acceleration structure build time, seconds.
     pub setup_seconds: f64,
+    /// Whether a headlight was added to a scene without lights.
+    pub headlight: bool,
 }
 
 impl RenderReport {
@@ -173,6 +178,7 @@ impl RenderReport {
                 .map(|(k, n)| (format!("{k:?}").to_lowercase(), n))
                 .collect(),
             lights: scene.lights.len(),
+            headlight: info.headlight,
             load_ms: 1e3 * info.load_seconds,
             setup_ms: 1e3 * info.setup_seconds,
             trace_ms: 1e3 * render.trace_seconds,
@@ -223,10 +229,11 @@ impl RenderReport {
                 self.tile_size
             ),
             format!(
-                "primitives: {} ({})  lights: {}  setup: {:.1} ms  trace: {:.1} ms  {:.2} Mrays/s",
+                "primitives: {} ({})  lights: {}{}  setup: {:.1} ms  trace: {:.1} ms  {:.2} Mrays/s",
                 self.primitives,
                 kinds.join(", "),
                 self.lights,
+                if self.headlight { " (headlight)" } else { "" },
                 self.setup_ms,
                 self.trace_ms,
                 self.mrays_per_s
