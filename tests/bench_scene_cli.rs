@@ -2,17 +2,28 @@
 //! count, with the ratios the benchmark targets are quoted from, all computed
 //! from the rows of the same run.
 
-use std::process::Command;
+mod cli_support;
+
+use cli_support::{raypack, stderr};
 
 #[test]
 fn rows_carry_consistent_ratios() {
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
-    let out = Command::new(env!("CARGO_BIN_EXE_raypack"))
-        .args(["bench", "scene", scene, "--size", "64x32", "--runs", "1"])
-        .args(["--threads", "1,2", "--kernel", "scalar,packet8", "--json"])
-        .output()
-        .expect("raypack runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = raypack(&[
+        "bench",
+        "scene",
+        scene,
+        "--size",
+        "64x32",
+        "--runs",
+        "1",
+        "--threads",
+        "1,2",
+        "--kernel",
+        "scalar,packet8",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     let rows = rows.as_array().expect("an array of rows");
     assert_eq!(rows.len(), 4);
@@ -44,14 +55,23 @@ fn rows_carry_consistent_ratios() {
 #[test]
 fn generated_scenes_are_accepted_and_bad_specs_rejected() {
     let run = |spec: &str| {
-        Command::new(env!("CARGO_BIN_EXE_raypack"))
-            .args(["bench", "scene", spec, "--size", "32x16", "--runs", "1"])
-            .args(["--threads", "1", "--kernel", "packet8", "--json"])
-            .output()
-            .expect("raypack runs")
+        raypack(&[
+            "bench",
+            "scene",
+            spec,
+            "--size",
+            "32x16",
+            "--runs",
+            "1",
+            "--threads",
+            "1",
+            "--kernel",
+            "packet8",
+            "--json",
+        ])
     };
     let out = run("gen:mesh:2000:3");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "{}", stderr(&out));
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     let row = &rows.as_array().expect("an array of rows")[0];
     assert_eq!(row["scene"], "gen:mesh:2000:3");
@@ -63,7 +83,7 @@ fn generated_scenes_are_accepted_and_bad_specs_rejected() {
     for bad in ["gen:nothing:10", "gen:mesh:many"] {
         let out = run(bad);
         assert_eq!(out.status.code(), Some(2), "{bad}");
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(stderr.contains(bad.split(':').nth(1).unwrap()), "{bad}: {stderr}");
+        let err = stderr(&out);
+        assert!(err.contains(bad.split(':').nth(1).unwrap()), "{bad}: {err}");
     }
 }

@@ -1,25 +1,30 @@
 //! `raypack bench traversal`: a tiny run reports every figure, and a scene
 //! file that cannot be read is the user's error (exit 2), not a panic.
 
-use std::process::Command;
+mod cli_support;
+
+use cli_support::{raypack, scratch, stderr};
 
 #[test]
 fn traversal_bench_reports_json_rows() {
-    let out = Command::new(env!("CARGO_BIN_EXE_raypack"))
-        .args([
-            "bench",
-            "traversal",
-            "--sizes",
-            "200,400",
-            "--width",
-            "32",
-            "--height",
-            "16",
-        ])
-        .args(["--random", "256", "--rounds", "1", "--threads", "1", "--json"])
-        .output()
-        .expect("raypack runs");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = raypack(&[
+        "bench",
+        "traversal",
+        "--sizes",
+        "200,400",
+        "--width",
+        "32",
+        "--height",
+        "16",
+        "--random",
+        "256",
+        "--rounds",
+        "1",
+        "--threads",
+        "1",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     let rows = rows.as_array().expect("an array of rows");
     assert_eq!(rows.len(), 2);
@@ -41,17 +46,13 @@ fn traversal_bench_reports_json_rows() {
 
 #[test]
 fn unreadable_scene_file_exits_with_code_2() {
-    let dir = std::env::temp_dir().join("raypack-bvh-bench-cli");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("bvh-bench");
     let path = dir.join("scene.unknown");
     std::fs::write(&path, "not a scene\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_raypack"))
-        .args(["bench", "traversal", "--file"])
-        .arg(&path)
-        .output()
-        .expect("raypack runs");
+    let out = raypack(&["bench", "traversal", "--file", path.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("scene.unknown"), "{stderr}");
+    let err = stderr(&out);
+    assert!(err.contains("scene.unknown"), "{err}");
     assert!(out.stdout.is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
