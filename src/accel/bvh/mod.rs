@@ -1,10 +1,11 @@
 //! A bounding volume hierarchy over a scene's bounded primitives, built as a
 //! binary tree of 32-byte nodes with binned SAH ([`build_sah`], [`node`]) and
-//! also collapsed into 4-wide nodes ([`wide`]) over the same leaves. 8-ray
-//! packets traverse the binary tree ([`traverse_packet`]: testing a packet
-//! against each box as soon as the tree branches culls more than four boxes at
-//! once would), single rays the wide tree ([`traverse_single`], one SIMD test
-//! per four boxes), and so do the packet lanes left alone deep in the tree;
+//! also collapsed into 8-wide nodes ([`wide`], 4-wide without AVX) over the
+//! same leaves. 8-ray packets traverse the binary tree ([`traverse_packet`]:
+//! testing a packet against each box as soon as the tree branches culls more
+//! than eight boxes at once would), single rays the wide tree
+//! ([`traverse_single`], one SIMD test per node), and so do the packet lanes
+//! left alone deep in the tree;
 //! shadow rays use either ([`occlusion`]). Leaves call the primitives' own
 //! kernels.
 //!
@@ -58,13 +59,13 @@ use crate::simd::SimdFloat;
 use leaf::LeafPrim;
 use node::{Node, NodeId, NodePair, ROOT};
 
-/// A BVH (binary nodes for packets, 4-wide nodes for single rays) owning a
+/// A BVH (binary nodes for packets, wide nodes for single rays) owning a
 /// reordered copy of the primitives it holds.
 #[derive(Clone, Debug)]
 pub struct Bvh {
     /// Node pairs; the root is node [`ROOT`] (pair 0, side 0).
     pairs: Vec<NodePair>,
-    /// The same tree collapsed to 4-wide nodes, which single rays traverse.
+    /// The same tree collapsed to wide nodes, which single rays traverse.
     wide: Vec<wide::WideNode>,
     /// Per binary node, the wide node made from it (see [`wide::Collapsed::twin`]).
     wide_twin: Vec<u32>,

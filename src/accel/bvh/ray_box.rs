@@ -11,7 +11,10 @@
 //!   ignored (x86 `maxps` semantics, see [`SimdFloat::fast_max`]): a ray lying in
 //!   a face counts as inside that slab;
 //! - the exit is scaled by [`FAR_SCALE`] (Ize, "Robust BVH ray traversal", JCGT
-//!   2013), so rounding never culls a box the ray touches.
+//!   2013), so rounding never culls a box the ray touches. The scale is folded
+//!   into a second reciprocal used for exit planes (`(max − o)·(s/d)`), which
+//!   keeps the multiply off the exit's dependency chain; `min(a, b)·s` equals
+//!   `min(a·s, b·s)` exactly, so the current hit's t is scaled alike.
 //!
 //! The single ray picks each axis' entry and exit plane once, by the sign of its
 //! direction (Williams et al., "An efficient and robust ray-box intersection
@@ -54,14 +57,17 @@ fn fast_max(a: f32, b: f32) -> f32 {
     if a > b { a } else { b }
 }
 
-/// A ray prepared for slab tests: origin, reciprocal direction, `t_min`, and
-/// per axis which box corner holds the entry plane. 56 bytes.
+/// A ray prepared for slab tests: origin, reciprocal direction (plain for
+/// entry planes, scaled by [`FAR_SCALE`] for exit planes), `t_min`, and per axis
+/// which box corner holds the entry plane. 68 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct SlabRay {
     /// Origin.
     pub origin: Vec3,
     /// Reciprocal direction; zero and subnormal components give `+∞`.
     pub inv_dir: Vec3,
+    /// `inv_dir · FAR_SCALE`, for exit planes.
+    pub inv_dir_far: Vec3,
     /// Smallest accepted t.
     pub t_min: f32,
     /// Per axis: 0 when the ray enters through the `min` plane (`1/d ≥ 0`), 1 through `max`.
@@ -80,6 +86,7 @@ impl SlabRay {
         Self {
             origin: ray.origin,
             inv_dir,
+            inv_dir_far: inv_dir * FAR_SCALE,
             t_min: ray.t_min,
             entry_corner: [0, 1, 2].map(|k| usize::from(inv_dir[k] < 0.0)),
         }
@@ -90,12 +97,12 @@ impl SlabRay {
     #[inline(always)]
     pub fn entry(&self, min: Vec3, max: Vec3, t_max: f32) -> Option<f32> {
         let corners = [min, max];
-        let plane = |corner: usize, k: usize| (corners[corner][k] - self.origin[k]) * self.inv_dir[k];
-        let near = |k: usize| plane(self.entry_corner[k], k);
-        let far = |k: usize| plane(1 - self.entry_corner[k], k);
+        let plane = |corner: usize, k: usize| corners[corner][k] - self.origin[k];
+        let near = |k: usize| plane(self.entry_corner[k], k) * self.inv_dir[k];
+        let far = |k: usize| plane(1 - self.entry_corner[k], k) * self.inv_dir_far[k];
         let t_near = fast_max(near(0), fast_max(near(1), fast_max(near(2), self.t_min)));
-        let t_far = fast_min(far(0), fast_min(far(1), fast_min(far(2), t_max)));
-        (t_near <= t_far * FAR_SCALE).then_some(t_near)
+        let t_far = fast_min(far(0), fast_min(far(1), fast_min(far(2), t_max * FAR_SCALE)));
+        (t_near <= t_far).then_some(t_near)
     }
 
     /// 0 when the ray enters boxes through their `min` plane along `axis`, 1 through `max`.
@@ -111,13 +118,15 @@ impl SlabRay {
     }
 }
 
-/// A ray packet prepared for slab tests. For `f32x8`: 7 vectors = 224 bytes.
+/// A ray packet prepared for slab tests. For `f32x8`: 10 vectors = 320 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct SlabPacket<F: SimdFloat> {
     /// Origins.
     pub origin: V3<F>,
     /// Reciprocal directions; zero and subnormal components give `+∞`.
     pub inv_dir: V3<F>,
+    /// `inv_dir · FAR_SCALE`, for exit planes.
+    pub inv_dir_far: V3<F>,
     /// Smallest accepted t per lane.
     pub t_min: F,
 }
@@ -130,12 +139,19 @@ impl<F: SimdFloat> SlabPacket<F> {
             let tiny = d.abs().lt(F::splat(f32::MIN_POSITIVE));
             tiny.select(F::splat(f32::INFINITY), F::splat(1.0) / d)
         };
+        let inv_dir = V3 {
+            x: inverse(rays.dir.x),
+            y: inverse(rays.dir.y),
+            z: inverse(rays.dir.z),
+        };
+        let scale = F::splat(FAR_SCALE);
         Self {
             origin: rays.origin,
-            inv_dir: V3 {
-                x: inverse(rays.dir.x),
-                y: inverse(rays.dir.y),
-                z: inverse(rays.dir.z),
+            inv_dir,
+            inv_dir_far: V3 {
+                x: inv_dir.x * scale,
+                y: inv_dir.y * scale,
+                z: inv_dir.z * scale,
             },
             t_min: rays.t_min,
         }
@@ -145,17 +161,21 @@ impl<F: SimdFloat> SlabPacket<F> {
     /// and every lane's entry t (meaningful in the mask's lanes).
     #[inline(always)]
     pub fn entry(&self, min: Vec3, max: Vec3, t_max: F) -> (F, F) {
-        let slab = |lo: f32, hi: f32, o: F, inv: F| {
-            let a = (F::splat(lo) - o) * inv;
-            let b = (F::splat(hi) - o) * inv;
-            (b.fast_min(a), a.fast_max(b))
+        // Per lane the entry plane is the nearer, the exit plane the farther
+        // (the scaled reciprocal has the same sign, so it picks the same plane).
+        let slab = |lo: f32, hi: f32, o: F, inv: F, inv_far: F| {
+            let (lo, hi) = (F::splat(lo) - o, F::splat(hi) - o);
+            let near = (hi * inv).fast_min(lo * inv);
+            let far = (lo * inv_far).fast_max(hi * inv_far);
+            (near, far)
         };
-        let (nx, fx) = slab(min.x, max.x, self.origin.x, self.inv_dir.x);
-        let (ny, fy) = slab(min.y, max.y, self.origin.y, self.inv_dir.y);
-        let (nz, fz) = slab(min.z, max.z, self.origin.z, self.inv_dir.z);
+        let (i, f) = (&self.inv_dir, &self.inv_dir_far);
+        let (nx, fx) = slab(min.x, max.x, self.origin.x, i.x, f.x);
+        let (ny, fy) = slab(min.y, max.y, self.origin.y, i.y, f.y);
+        let (nz, fz) = slab(min.z, max.z, self.origin.z, i.z, f.z);
         let t_near = nx.fast_max(ny.fast_max(nz.fast_max(self.t_min)));
-        let t_far = fx.fast_min(fy.fast_min(fz.fast_min(t_max)));
-        (t_near.le(t_far * F::splat(FAR_SCALE)), t_near)
+        let t_far = fx.fast_min(fy.fast_min(fz.fast_min(t_max * F::splat(FAR_SCALE))));
+        (t_near.le(t_far), t_near)
     }
 
     /// [`SlabPacket::entry`] of a node's box.

@@ -7,34 +7,50 @@ use std::mem::MaybeUninit;
 
 use crate::accel::bvh::MAX_DEPTH;
 
-/// Entries any traversal of a tree the builder makes can hold at once: each
-/// wide level (at most [`MAX_DEPTH`], since every wide node spans at least one
-/// binary level) leaves at most 3 of its 4 children pending, plus the 4 of the
-/// node being expanded.
-pub const STACK_CAPACITY: usize = 3 * MAX_DEPTH + 4;
+/// Slots of a single-ray traversal's stack (12-byte entries: 3 KiB). The
+/// collapse into wide nodes keeps every root-to-leaf path within it (see
+/// [`PENDING_BUDGET`](crate::accel::bvh::wide::PENDING_BUDGET)). Kept small on
+/// purpose: a stack frame past one 4 KiB page gets probed on every call, which
+/// cost a third of the single-ray time on a 1,000-triangle scene.
+pub const WIDE_STACK_SLOTS: usize = 256;
 
-/// A LIFO of up to [`STACK_CAPACITY`] `Copy` entries. `STACK_CAPACITY · size_of::<T>()` + 8 bytes.
-pub struct TraversalStack<T: Copy> {
-    entries: [MaybeUninit<T>; STACK_CAPACITY],
+/// Entries a packet traversal of the binary tree can hold at once: one far
+/// child per level; plus the spare slot.
+pub const BINARY_STACK_SLOTS: usize = MAX_DEPTH + 2;
+
+/// A LIFO of up to `N − 1` `Copy` entries in `N` slots (the last is a spare,
+/// which [`TraversalStack::push_if`] may write without keeping). `N · size_of::<T>()` + 8 bytes.
+/// `N` is sized to the tree traversed: a needlessly large stack costs stack
+/// probes and cold cache lines on every query.
+pub struct TraversalStack<T: Copy, const N: usize> {
+    entries: [MaybeUninit<T>; N],
     len: usize,
 }
 
-impl<T: Copy> TraversalStack<T> {
+impl<T: Copy, const N: usize> TraversalStack<T, N> {
     /// An empty stack (nothing is written).
     #[inline(always)]
     pub fn new() -> Self {
         Self {
-            entries: [const { MaybeUninit::uninit() }; STACK_CAPACITY],
+            entries: [const { MaybeUninit::uninit() }; N],
             len: 0,
         }
     }
 
-    /// Push `entry`. Panics past [`STACK_CAPACITY`], which no tree the builder
-    /// makes can reach.
+    /// Push `entry`. Panics past `N − 1` entries (the last slot is the spare),
+    /// which no tree the builder makes can reach with the capacities above.
     #[inline(always)]
     pub fn push(&mut self, entry: T) {
+        self.push_if(entry, true);
+    }
+
+    /// Push `entry` if `keep`. The entry is written either way, so the choice
+    /// costs no branch (traversal pushes a far child only when there is one).
+    #[inline(always)]
+    pub fn push_if(&mut self, entry: T, keep: bool) {
+        assert!(self.len + usize::from(keep) < N, "traversal stack overflow");
         self.entries[self.len] = MaybeUninit::new(entry);
-        self.len += 1;
+        self.len += usize::from(keep);
     }
 
     /// Pop the last entry pushed.
@@ -69,7 +85,7 @@ impl<T: Copy> TraversalStack<T> {
     }
 }
 
-impl<T: Copy> Default for TraversalStack<T> {
+impl<T: Copy, const N: usize> Default for TraversalStack<T, N> {
     fn default() -> Self {
         Self::new()
     }
@@ -81,14 +97,16 @@ mod tests {
 
     #[test]
     fn pops_in_reverse_order_of_pushes() {
-        let mut s = TraversalStack::<(u32, f32)>::new();
+        const N: usize = 10;
+        let mut s = TraversalStack::<(u32, f32), N>::new();
         assert!(s.is_empty() && s.pop().is_none());
-        for k in 0..STACK_CAPACITY as u32 {
+        for k in 0..N as u32 - 1 {
             s.push((k, k as f32));
         }
-        assert_eq!(s.len(), STACK_CAPACITY);
+        s.push_if((99, 99.0), false);
+        assert_eq!(s.len(), N - 1);
         s.as_mut_slice().swap(0, 1);
-        for k in (2..STACK_CAPACITY as u32).rev() {
+        for k in (2..N as u32 - 1).rev() {
             assert_eq!(s.pop(), Some((k, k as f32)));
         }
         assert_eq!(s.pop(), Some((0, 0.0)));
@@ -99,8 +117,8 @@ mod tests {
     #[test]
     #[should_panic]
     fn pushing_past_capacity_panics() {
-        let mut s = TraversalStack::<u8>::new();
-        for _ in 0..=STACK_CAPACITY {
+        let mut s = TraversalStack::<u8, WIDE_STACK_SLOTS>::new();
+        for _ in 0..WIDE_STACK_SLOTS {
             s.push(0);
         }
     }

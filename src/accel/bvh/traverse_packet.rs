@@ -9,7 +9,7 @@
 //!   node's split axis; a far child is pushed with its lanes' entry t, and lanes
 //!   whose hit has come closer than that are dropped when it is popped.
 //! - In an incoherent packet ([`is_coherent`]), when no more than
-//!   [`SINGLE_RAY_LANES`] lanes are left in a subtree that the 4-wide tree also
+//!   [`SINGLE_RAY_LANES`] lanes are left in a subtree that the wide tree also
 //!   has (or a leaf), they finish it as single rays in the wide tree, which is
 //!   cheaper than dragging an almost empty packet along.
 //!
@@ -22,7 +22,7 @@ use glam::Vec3;
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
-use crate::accel::bvh::stack::TraversalStack;
+use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
 use crate::accel::bvh::traverse_single::{Nearest, traverse};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
@@ -113,7 +113,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
         return;
     }
     // Far children still to visit, with their lanes' entry t (NaN in the other lanes).
-    let mut stack = TraversalStack::<(NodeId, F)>::new();
+    let mut stack = TraversalStack::<(NodeId, F), BINARY_STACK_SLOTS>::new();
     let mut id = ROOT;
     loop {
         loop {

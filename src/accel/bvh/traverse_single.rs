@@ -1,4 +1,4 @@
-//! Single-ray traversal of the 4-wide tree: depth first, children met pushed in
+//! Single-ray traversal of the wide tree: depth first, children met pushed in
 //! order of entry t so the nearest is visited next, culling by the current hit's
 //! t. One loop serves nearest-hit and any-hit queries ([`RayQuery`]); packet
 //! traversal finishes the lanes it leaves alone with it.
@@ -7,8 +7,8 @@ use std::ops::Range;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
-use crate::accel::bvh::stack::TraversalStack;
-use crate::accel::bvh::wide::ChildRef;
+use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
+use crate::accel::bvh::wide::{ChildRef, WIDTH};
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
 use crate::ray::{Hit, Ray};
@@ -33,35 +33,40 @@ pub fn traverse<Q: RayQuery, S: Counter>(
     stats: &mut S,
 ) -> bool {
     // Children still to visit, with their entry t.
-    let mut stack = TraversalStack::<(ChildRef, f32)>::new();
+    let mut stack = TraversalStack::<(ChildRef, f32), WIDE_STACK_SLOTS>::new();
     let mut next = start;
     loop {
         stats.node();
         if next.is_leaf() {
-            if query.leaf(bvh, next.prims(), stats) {
+            if !next.is_empty() && query.leaf(bvh, next.prims(), stats) {
                 return true;
             }
         } else {
-            // Test the four children's boxes at once. One child met: descend
-            // into it directly. More: push them sorted by decreasing entry t
-            // (insertion), so the nearest is popped next.
+            // Test all children's boxes at once.
             let node = &bvh.wide[next.node()];
-            let (mut bits, t) = node.entry(slab, query.t_max());
-            if bits.count_ones() == 1 {
-                if let Some(child) = node.child(bits.trailing_zeros() as usize) {
-                    next = child;
-                    continue;
-                }
-                bits = 0; // a NaN ray can "meet" an empty box
+            let (bits, t) = node.entry(slab, query.t_max());
+            let rest = bits & bits.wrapping_sub(1);
+            if bits != 0 && rest & rest.wrapping_sub(1) == 0 {
+                // One or two children met (nine visits in ten): descend into
+                // the nearer and push the other, if any. Which is nearer, and
+                // whether there is a second, are coin tosses a branch
+                // predictor loses, so both are settled by selects.
+                let i = bits.trailing_zeros() as usize;
+                let j = rest.trailing_zeros() as usize % WIDTH; // any slot when `rest` is 0
+                let j_nearer = rest != 0 && t[j] < t[i];
+                let (near, far) = std::hint::select_unpredictable(j_nearer, (j, i), (i, j));
+                stack.push_if((node.slot(far), t[far]), rest != 0);
+                next = node.slot(near);
+                continue;
             }
+            // More: push them sorted by decreasing entry t
+            // (insertion), so the nearest is popped next.
+            let mut bits = bits;
             let base = stack.len();
             while bits != 0 {
                 let i = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                let Some(child) = node.child(i) else {
-                    continue;
-                };
-                stack.push((child, t[i]));
+                stack.push((node.slot(i), t[i]));
                 let run = &mut stack.as_mut_slice()[base..];
                 let mut k = run.len() - 1;
                 while k > 0 && run[k - 1].1 < run[k].1 {

@@ -1,22 +1,26 @@
-//! The 4-wide view of the BVH for single rays: each node holds the boxes of up
-//! to four children in structure-of-arrays form, so one ray tests all four with
-//! one `f32x4` slab test (the layout of Embree's BVH4, Wald et al., "Embree: a
-//! kernel framework for efficient CPU ray tracing", SIGGRAPH 2014). It is made
-//! by collapsing the binary tree (each wide node takes a binary node and opens
-//! its largest inner children until it has four), so both trees share leaves
-//! and primitive order; packets traverse the binary tree, and hand lanes they
-//! leave alone to the wide tree at the wide node made from the binary node
-//! they are at.
+//! The wide view of the BVH for single rays: each node holds the boxes of up
+//! to [`WIDTH`] children (8 with AVX, else 4) in structure-of-arrays form, so one
+//! ray tests all of them with one SIMD slab test (the layout of Embree's BVH4 and
+//! BVH8, Wald et al., "Embree: a kernel framework for efficient CPU ray
+//! tracing", SIGGRAPH 2014). It is made by collapsing the binary tree (each
+//! wide node takes a binary node and opens its largest inner children until it
+//! is full), so both trees share leaves and primitive order; packets traverse
+//! the binary tree, and hand lanes they leave alone to the wide tree at the
+//! wide node made from the binary node they are at.
+//!
+//! 8-wide nodes halve the visits per ray against 4-wide ones on large meshes
+//! (a 10⁶-triangle mesh is log₈ rather than log₄ of its leaves deep), for the
+//! same latency per visit: an `f32x8` test costs what an `f32x4` one does.
 
 use std::ops::Range;
 
-use wide::f32x4;
-
 use crate::accel::bvh::Bvh;
+use crate::accel::bvh::MAX_DEPTH;
 use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
+use crate::accel::bvh::stack::WIDE_STACK_SLOTS;
 use crate::bounds::Aabb;
-use crate::simd::SimdFloat;
+use crate::simd::{SimdFloat, SimdU32};
 
 /// What a child slot of a wide node leads to: an inner wide node, or a leaf's
 /// run of primitives. 8 bytes.
@@ -44,10 +48,17 @@ impl ChildRef {
         Self { index: first, count }
     }
 
-    /// True for a leaf.
+    /// True for a leaf, and for the empty slot (see [`ChildRef::is_empty`]).
     #[inline(always)]
     pub fn is_leaf(self) -> bool {
         self.count != 0
+    }
+
+    /// True for an empty slot of a wide node, which only rays with NaN or
+    /// infinite input can meet; it holds no primitives.
+    #[inline(always)]
+    pub fn is_empty(self) -> bool {
+        self.count == EMPTY_SLOT
     }
 
     /// Inner: the wide node's index.
@@ -63,64 +74,103 @@ impl ChildRef {
     }
 }
 
-/// Up to four children's (padded) boxes in structure-of-arrays form, and what
-/// each child is. 96 bytes of boxes + 32 of slots = 128 bytes, two cache lines.
+/// The SIMD type of a single ray's box test, and so the width of the wide
+/// tree: 8 boxes per `f32x8` test where the CPU has 256-bit vectors (AVX), 4 per
+/// `f32x4` elsewhere. The one place the node width is chosen.
+#[cfg(target_feature = "avx")]
+pub type NodeLanes = wide::f32x8;
+/// The SIMD type of a single ray's box test (see the AVX variant).
+#[cfg(not(target_feature = "avx"))]
+pub type NodeLanes = wide::f32x4;
+
+/// Children per wide node.
+pub const WIDTH: usize = NodeLanes::LANES;
+
+/// Pending children (the sum of `children − 1` over the wide nodes above) a
+/// root-to-leaf path may gather before the collapse stops widening nodes. Past
+/// it, wide nodes get two children, adding one pending entry per level, so no
+/// traversal holds more than `PENDING_BUDGET + MAX_DEPTH` pending entries plus
+/// the `WIDTH` of the node being expanded: the stack's slots less its spare.
+/// Trees of real scenes stay far below it (a path of ten 8-wide nodes gathers
+/// at most 70); only pathological inputs get narrower nodes deep down.
+pub const PENDING_BUDGET: usize = WIDE_STACK_SLOTS - 1 - WIDTH - MAX_DEPTH;
+
+/// The wide node single rays traverse.
+pub type WideNode = WideNodeOf<NodeLanes>;
+
+/// Up to `F::LANES` children's (padded) boxes in structure-of-arrays form, and
+/// what each child is. For `f32x4`: 96 bytes of boxes + 32 of slots = 128 bytes
+/// (two cache lines); for `f32x8`: 192 + 64 = 256 bytes (four lines).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-pub struct WideNode {
+pub struct WideNodeOf<F: SimdFloat> {
     /// `[min; max]` planes of the children along x, y, z: `bounds[axis][corner][child]`.
-    bounds: [[[f32; 4]; 2]; 3],
+    bounds: [[F::Array; 2]; 3],
     /// Per child: inner node index, or first primitive of a leaf.
-    index: [u32; 4],
+    index: <F::U32 as SimdU32>::Array,
     /// Per child: 0 for an inner node, else the leaf's primitive count; `u32::MAX` for an empty slot.
-    count: [u32; 4],
+    count: <F::U32 as SimdU32>::Array,
 }
 
 /// `count` of an empty slot.
 const EMPTY_SLOT: u32 = u32::MAX;
 
-impl WideNode {
+impl<F: SimdFloat> WideNodeOf<F> {
     /// The node with every slot empty.
-    const EMPTY: WideNode = WideNode {
-        bounds: [[[f32::INFINITY; 4], [f32::NEG_INFINITY; 4]]; 3],
-        index: [0; 4],
-        count: [EMPTY_SLOT; 4],
-    };
+    fn empty() -> Self {
+        let planes = |x: f32| {
+            let mut a = F::Array::default();
+            a.as_mut().fill(x);
+            a
+        };
+        let mut count = <F::U32 as SimdU32>::Array::default();
+        count.as_mut().fill(EMPTY_SLOT);
+        Self {
+            bounds: [[planes(f32::INFINITY), planes(f32::NEG_INFINITY)]; 3],
+            index: Default::default(),
+            count,
+        }
+    }
 
     /// What child `i` leads to; None for an empty slot.
     #[inline(always)]
     pub fn child(&self, i: usize) -> Option<ChildRef> {
-        (self.count[i] != EMPTY_SLOT).then_some(ChildRef {
-            index: self.index[i],
-            count: self.count[i],
-        })
+        let slot = self.slot(i);
+        (!slot.is_empty()).then_some(slot)
+    }
+
+    /// What slot `i` holds, the empty slot included.
+    #[inline(always)]
+    pub fn slot(&self, i: usize) -> ChildRef {
+        ChildRef {
+            index: self.index.as_ref()[i],
+            count: self.count.as_ref()[i],
+        }
     }
 
     /// The box of child `i` (empty for an empty slot).
     #[inline(always)]
     pub fn child_bounds(&self, i: usize) -> Aabb {
-        let b = &self.bounds;
+        let plane = |axis: usize, corner: usize| self.bounds[axis][corner].as_ref()[i];
         Aabb::new(
-            glam::Vec3::new(b[0][0][i], b[1][0][i], b[2][0][i]),
-            glam::Vec3::new(b[0][1][i], b[1][1][i], b[2][1][i]),
+            glam::Vec3::new(plane(0, 0), plane(1, 0), plane(2, 0)),
+            glam::Vec3::new(plane(0, 1), plane(1, 1), plane(2, 1)),
         )
     }
 
-    /// The slab test of `ray` against the four children's boxes: the mask of
+    /// The slab test of `ray` against all children's boxes at once: the mask of
     /// children met within `[t_min, t_max]` (bit `i` for child `i`) and their entry t.
     /// Lane `i` computes exactly what [`SlabRay::entry`] computes for child `i`.
     #[inline(always)]
-    pub fn entry(&self, ray: &SlabRay, t_max: f32) -> (u32, [f32; 4]) {
+    pub fn entry(&self, ray: &SlabRay, t_max: f32) -> (u32, F::Array) {
         let plane = |axis: usize, corner: usize| {
-            (f32x4::new(self.bounds[axis][corner]) - f32x4::splat(ray.origin[axis]))
-                * f32x4::splat(ray.inv_dir[axis])
+            F::from_array(self.bounds[axis][corner]) - F::splat(ray.origin[axis])
         };
-        let near = |axis: usize| plane(axis, ray.entry_corner(axis));
-        let far = |axis: usize| plane(axis, 1 - ray.entry_corner(axis));
-        let t_near = near(0).fast_max(near(1).fast_max(near(2).fast_max(f32x4::splat(ray.t_min))));
-        let t_far = far(0).fast_min(far(1).fast_min(far(2).fast_min(f32x4::splat(t_max))));
-        let hit = SimdFloat::le(t_near, t_far * f32x4::splat(FAR_SCALE));
-        (hit.bitmask(), t_near.to_array())
+        let near = |axis: usize| plane(axis, ray.entry_corner(axis)) * F::splat(ray.inv_dir[axis]);
+        let far = |axis: usize| plane(axis, 1 - ray.entry_corner(axis)) * F::splat(ray.inv_dir_far[axis]);
+        let t_near = near(0).fast_max(near(1).fast_max(near(2).fast_max(F::splat(ray.t_min))));
+        let t_far = far(0).fast_min(far(1).fast_min(far(2).fast_min(F::splat(t_max * FAR_SCALE))));
+        (t_near.le(t_far).bitmask(), t_near.to_array())
     }
 }
 
@@ -138,17 +188,18 @@ pub struct Collapsed {
 /// Collapse the binary tree of `bvh` into wide nodes.
 pub fn collapse(bvh: &Bvh) -> Collapsed {
     let mut out = Collapsed {
-        nodes: vec![WideNode::EMPTY],
+        nodes: vec![WideNode::empty()],
         twin: vec![u32::MAX; 2 * bvh.pairs.len()],
     };
     if !bvh.prims.is_empty() {
-        fill(bvh, ROOT, 0, &mut out);
+        fill(bvh, ROOT, 0, 0, &mut out);
     }
     out
 }
 
-/// Fill wide node `at` with the binary subtree under `id`, depth first.
-fn fill(bvh: &Bvh, id: NodeId, at: usize, out: &mut Collapsed) {
+/// Fill wide node `at` with the binary subtree under `id`, depth first;
+/// `pending` is the path's pending count above it (see [`PENDING_BUDGET`]).
+fn fill(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Collapsed) {
     if !bvh.node(id).is_leaf() {
         out.twin[id as usize] = at as u32;
     }
@@ -156,13 +207,18 @@ fn fill(bvh: &Bvh, id: NodeId, at: usize, out: &mut Collapsed) {
         let n = bvh.node(c);
         Aabb::new(n.min, n.max).surface_area()
     };
-    // Open the largest inner child until there are four children (or only leaves).
+    // Open the largest inner child until the node is full (or only leaves).
+    let width = if pending + WIDTH - 1 <= PENDING_BUDGET {
+        WIDTH
+    } else {
+        2
+    };
     let mut children: Vec<NodeId> = if bvh.node(id).is_leaf() {
         vec![id]
     } else {
         bvh.node(id).children().to_vec()
     };
-    while children.len() < 4 {
+    while children.len() < width {
         let widest = children
             .iter()
             .enumerate()
@@ -173,27 +229,27 @@ fn fill(bvh: &Bvh, id: NodeId, at: usize, out: &mut Collapsed) {
         let opened = children.remove(i);
         children.extend(bvh.node(opened).children());
     }
-    let mut node = WideNode::EMPTY;
+    let mut node = WideNode::empty();
     let mut inner = Vec::new();
     for (i, &c) in children.iter().enumerate() {
         let n = bvh.node(c);
         for axis in 0..3 {
-            node.bounds[axis][0][i] = n.min[axis];
-            node.bounds[axis][1][i] = n.max[axis];
+            node.bounds[axis][0].as_mut()[i] = n.min[axis];
+            node.bounds[axis][1].as_mut()[i] = n.max[axis];
         }
-        if n.is_leaf() {
-            node.index[i] = n.first;
-            node.count[i] = n.meta;
+        let (index, count) = if n.is_leaf() {
+            (n.first, n.meta)
         } else {
-            node.index[i] = out.nodes.len() as u32;
-            node.count[i] = 0;
-            out.nodes.push(WideNode::EMPTY);
-            inner.push((c, node.index[i] as usize));
-        }
+            out.nodes.push(WideNode::empty());
+            inner.push((c, out.nodes.len() - 1));
+            (out.nodes.len() as u32 - 1, 0)
+        };
+        node.index.as_mut()[i] = index;
+        node.count.as_mut()[i] = count;
     }
     out.nodes[at] = node;
     for (c, slot) in inner {
-        fill(bvh, c, slot, out);
+        fill(bvh, c, slot, pending + children.len() - 1, out);
     }
 }
 
@@ -206,17 +262,23 @@ mod tests {
     use crate::rng::Rng;
     use glam::Vec3;
 
-    /// Each lane of the 4-box test answers as the scalar slab test of that box:
-    /// 2¹⁹ random rays against random nodes of 1 to 4 boxes (about 1.3·10⁶ box tests) (flat boxes, axis-parallel rays in box
-    /// planes, empty slots included).
+    /// Each lane of the wide box test answers as the scalar slab test of that
+    /// box: 2¹⁹ random rays against random nodes of 1 to 4 (`f32x4`) or 1 to 8
+    /// (`f32x8`) boxes (flat boxes, axis-parallel rays in box planes, empty
+    /// slots included).
     #[test]
-    fn four_box_test_agrees_with_scalar_slab_test_lane_by_lane() {
+    fn wide_box_test_agrees_with_scalar_slab_test_lane_by_lane() {
+        box_test_agrees::<wide::f32x4>();
+        box_test_agrees::<wide::f32x8>();
+    }
+
+    fn box_test_agrees<F: SimdFloat>() {
         let mut rng = Rng::new(5);
         let mut hits = 0;
         let n = 1 << 19;
         for _ in 0..n {
-            let mut node = WideNode::EMPTY;
-            let slots = 1 + rng.below(4) as usize;
+            let mut node = WideNodeOf::<F>::empty();
+            let slots = 1 + rng.below(F::LANES as u32) as usize;
             for i in 0..slots {
                 let a = rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
                 let mut b = rng.point_in(Vec3::splat(-2.0), Vec3::splat(2.0));
@@ -224,10 +286,10 @@ mod tests {
                     b.y = a.y;
                 }
                 for axis in 0..3 {
-                    node.bounds[axis][0][i] = a[axis].min(b[axis]);
-                    node.bounds[axis][1][i] = a[axis].max(b[axis]);
+                    node.bounds[axis][0].as_mut()[i] = a[axis].min(b[axis]);
+                    node.bounds[axis][1].as_mut()[i] = a[axis].max(b[axis]);
                 }
-                node.count[i] = 1;
+                node.count.as_mut()[i] = 1;
             }
             let mut origin = rng.point_in(Vec3::splat(-4.0), Vec3::splat(4.0));
             let mut dir = (node.child_bounds(0).center() - origin).normalize_or(Vec3::X);
@@ -238,7 +300,7 @@ mod tests {
                 let k = rng.below(3) as usize;
                 dir[k] = if rng.below(2) == 0 { 0.0 } else { -0.0 };
                 dir = dir.normalize_or(Vec3::Z);
-                origin[k] = node.bounds[k][rng.below(2) as usize][0];
+                origin[k] = node.bounds[k][rng.below(2) as usize].as_ref()[0];
             }
             let t_max = if rng.below(2) == 0 {
                 f32::INFINITY
@@ -248,7 +310,7 @@ mod tests {
             let ray = Ray::new(origin, dir, rng.range(0.0, 0.5), t_max);
             let slab = SlabRay::new(&ray);
             let (bits, t) = node.entry(&slab, t_max);
-            for (i, t_lane) in t.iter().enumerate().take(slots) {
+            for (i, t_lane) in t.as_ref().iter().enumerate().take(slots) {
                 let b = node.child_bounds(i);
                 let scalar = slab.entry(b.min, b.max, t_max);
                 assert_eq!(bits >> i & 1 == 1, scalar.is_some(), "{ray:?} vs {b:?}");
@@ -260,6 +322,38 @@ mod tests {
             assert_eq!(bits >> slots, 0, "empty slots are never met by finite rays");
         }
         assert!(hits > n / 4, "{hits} hits: too few for a meaningful test");
+    }
+
+    /// The most stack entries a single-ray traversal of `bvh` can hold: over
+    /// every path, the pending children of the nodes above plus the node's own.
+    fn stack_need(bvh: &Bvh, at: usize, pending: usize) -> usize {
+        let node = &bvh.wide[at];
+        let children: Vec<ChildRef> = (0..WIDTH).filter_map(|i| node.child(i)).collect();
+        let below = children
+            .iter()
+            .filter(|c| !c.is_leaf())
+            .map(|c| stack_need(bvh, c.node(), pending + children.len() - 1));
+        below.fold(pending + children.len(), usize::max)
+    }
+
+    /// Traversal stays within the stack on balanced and on peeled-off trees
+    /// (spheres growing geometrically, where SAH splits one off at a time).
+    #[test]
+    fn traversal_fits_in_the_stack() {
+        let peeled: Vec<crate::geometry::Primitive> = (0..400)
+            .map(|k| {
+                let x = 1.15f32.powi(k);
+                crate::geometry::Primitive::Sphere(crate::geometry::Sphere::new(
+                    Vec3::new(x, 0.0, 0.0),
+                    0.3 * x,
+                ))
+            })
+            .collect();
+        for prims in [scenes::random_mixed(20_000, 1), peeled] {
+            let bvh = Bvh::new(&prims);
+            let need = stack_need(&bvh, 0, 0);
+            assert!(need < WIDE_STACK_SLOTS, "needs {need} entries");
+        }
     }
 
     /// The wide tree covers exactly the binary tree's leaves, once each.
@@ -275,12 +369,12 @@ mod tests {
             let mut stack = vec![0usize];
             while let Some(i) = stack.pop() {
                 let node = &bvh.wide[i];
-                for c in 0..4 {
-                    match node.count[c] {
+                for c in 0..WIDTH {
+                    match node.count.as_ref()[c] {
                         EMPTY_SLOT => {}
-                        0 => stack.push(node.index[c] as usize),
+                        0 => stack.push(node.index.as_ref()[c] as usize),
                         count => {
-                            let first = node.index[c] as usize;
+                            let first = node.index.as_ref()[c] as usize;
                             covered[first..first + count as usize]
                                 .iter_mut()
                                 .for_each(|x| *x += 1);
