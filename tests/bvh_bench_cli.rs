@@ -42,6 +42,51 @@ fn traversal_bench_reports_json_rows() {
         assert_eq!(row["primary_packet_stats"]["rays"].as_u64(), Some(32 * 16));
         assert_eq!(row["random_packet_stats"]["rays"].as_u64(), Some(256));
     }
+    // Time per ray against the first scene: exactly 1 for the first, and a
+    // measured ratio (of the times behind the Mrays/s figures) for the second.
+    let growth = |row: &serde_json::Value, key: &str| row["growth_vs_first"][key].as_f64().unwrap();
+    for (key, mrays) in [
+        ("primary_single", "primary_single_mrays"),
+        ("primary_packet", "primary_packet_mrays"),
+        ("random_single", "random_single_mrays"),
+        ("random_packet", "random_packet_mrays"),
+    ] {
+        assert_eq!(growth(&rows[0], key), 1.0, "{key}");
+        let from_rates = rows[0][mrays].as_f64().unwrap() / rows[1][mrays].as_f64().unwrap();
+        let g = growth(&rows[1], key);
+        assert!((g / from_rates - 1.0).abs() < 1e-9, "{key}: {g} vs {from_rates}");
+    }
+}
+
+#[test]
+fn traversal_bench_prints_growth_from_the_first_scene() {
+    let out = raypack(&[
+        "bench",
+        "traversal",
+        "--sizes",
+        "200,400,800",
+        "--width",
+        "32",
+        "--height",
+        "16",
+        "--random",
+        "64",
+        "--rounds",
+        "1",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let growth: Vec<&str> = text.lines().filter(|l| l.starts_with("time per ray, ")).collect();
+    assert_eq!(growth.len(), 2, "{text}");
+    assert!(
+        growth[0].starts_with("time per ray, mesh-200 -> mesh-400 (1t"),
+        "{text}"
+    );
+    assert!(
+        growth[1].starts_with("time per ray, mesh-200 -> mesh-800 (1t"),
+        "{text}"
+    );
+    assert!(growth[1].contains("primary single ") && growth[1].contains("random single "));
 }
 
 #[test]

@@ -5,8 +5,10 @@
 //! Rays are made before timing, so only traversal is measured: primary rays
 //! through pixel centres in 16×16 tiles of 4×2-pixel packets (the same rays for
 //! both variants), random rays from points of the scene's box in uniform
-//! directions, packed 8 at a time. Threads take whole tiles (rayon). Variants
-//! are interleaved round by round and the best round is kept.
+//! directions, packed 8 at a time. Threads take whole tiles (rayon). Scenes and
+//! variants are interleaved round by round and the best round is kept, so a
+//! drift of a shared machine's speed hits every scene alike and the growth of
+//! time per ray from the first scene to the others is read off one run.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -161,8 +163,23 @@ pub struct TraversalRow {
     pub primary_single_stats: TraversalStats,
     /// Counts of the random packet pass.
     pub random_packet_stats: TraversalStats,
+    /// Time per ray against the first scene measured alongside (1 for itself).
+    pub growth_vs_first: Growth,
     /// Timed rounds per variant (best kept).
     pub rounds: usize,
+}
+
+/// Per traversal variant, a scene's time per ray divided by the first scene's.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Growth {
+    /// Primary rays, single-ray traversal.
+    pub primary_single: f64,
+    /// Primary rays, 8-ray packets.
+    pub primary_packet: f64,
+    /// Random rays, single-ray traversal.
+    pub random_single: f64,
+    /// Random rays, 8-ray packets.
+    pub random_packet: f64,
 }
 
 /// Best (shortest) wall time of `f` over `rounds` calls.
@@ -177,58 +194,113 @@ fn best_time<T>(rounds: usize, mut f: impl FnMut() -> T) -> Duration {
         .unwrap_or_default()
 }
 
-/// Measure `setup` on a rayon pool of `threads`: build time (best of 3), then
-/// the four traversal variants interleaved, best of `rounds`.
-pub fn measure(setup: &TraversalSetup, threads: usize, rounds: usize) -> TraversalRow {
+/// Measure `setups` on a rayon pool of `threads`: each build time (best of 3),
+/// then every scene's four traversal variants, interleaved scene by scene and
+/// variant by variant, best of `rounds` after a warm-up round.
+pub fn measure(setups: &[TraversalSetup], threads: usize, rounds: usize) -> Vec<TraversalRow> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .expect("a rayon pool");
     pool.install(|| {
-        let build = best_time(3, || Bvh::new(&setup.prims));
-        let bvh = Bvh::new(&setup.prims);
-        let mrays = |n: usize, t: Duration| n as f64 / t.as_secs_f64() / 1e6;
-        // Warm up every variant once (caches, page faults), then interleave.
-        let mut best = [Duration::MAX; 4];
+        let builds: Vec<Duration> = setups
+            .iter()
+            .map(|s| best_time(3, || Bvh::new(&s.prims)))
+            .collect();
+        let bvhs: Vec<Bvh> = setups.iter().map(|s| Bvh::new(&s.prims)).collect();
+        // Round 0 warms every variant up (caches, page faults) and is not kept.
+        let mut best = vec![[Duration::MAX; 4]; setups.len()];
         for round in 0..=rounds {
-            let times = [
-                best_time(1, || trace_single(&bvh, &setup.primary)),
-                best_time(1, || trace_packets(&bvh, &setup.primary_packets)),
-                best_time(1, || trace_single(&bvh, &setup.random)),
-                best_time(1, || trace_packets(&bvh, &setup.random_packets)),
-            ];
-            if round > 0 {
-                for (b, t) in best.iter_mut().zip(times) {
-                    *b = (*b).min(t);
+            for ((setup, bvh), best) in setups.iter().zip(&bvhs).zip(&mut best) {
+                let times = [
+                    best_time(1, || trace_single(bvh, &setup.primary)),
+                    best_time(1, || trace_packets(bvh, &setup.primary_packets)),
+                    best_time(1, || trace_single(bvh, &setup.random)),
+                    best_time(1, || trace_packets(bvh, &setup.random_packets)),
+                ];
+                if round > 0 {
+                    for (b, t) in best.iter_mut().zip(times) {
+                        *b = (*b).min(t);
+                    }
                 }
             }
         }
-        let mut stats = [TraversalStats::default(); 3];
-        for p in &setup.primary_packets {
-            bvh.intersect_packet_with_stats(p, &mut stats[0]);
-        }
-        for r in &setup.primary {
-            bvh.intersect_with_stats(r, &mut stats[1]);
-        }
-        for p in &setup.random_packets {
-            bvh.intersect_packet_with_stats(p, &mut stats[2]);
-        }
-        TraversalRow {
-            scene: setup.name.clone(),
-            primitives: setup.prims.len(),
-            threads,
-            build_s: build.as_secs_f64(),
-            resolution: setup.resolution,
-            primary_single_mrays: mrays(setup.primary.len(), best[0]),
-            primary_packet_mrays: mrays(setup.primary.len(), best[1]),
-            random_single_mrays: mrays(setup.random.len(), best[2]),
-            random_packet_mrays: mrays(setup.random.len(), best[3]),
-            primary_packet_stats: stats[0],
-            primary_single_stats: stats[1],
-            random_packet_stats: stats[2],
-            rounds,
-        }
+        // Seconds per ray of each variant, for the growth figures.
+        let per_ray = |setup: &TraversalSetup, best: &[Duration; 4]| {
+            let rays = [
+                setup.primary.len(),
+                setup.primary.len(),
+                setup.random.len(),
+                setup.random.len(),
+            ];
+            std::array::from_fn::<f64, 4, _>(|k| best[k].as_secs_f64() / rays[k].max(1) as f64)
+        };
+        let first = setups.first().map(|s| per_ray(s, &best[0]));
+        setups
+            .iter()
+            .zip(&bvhs)
+            .zip(builds.iter().zip(&best))
+            .map(|((setup, bvh), (build, best))| {
+                let own = per_ray(setup, best);
+                let first = first.unwrap_or(own);
+                let growth = |k: usize| own[k] / first[k];
+                row(
+                    setup,
+                    bvh,
+                    threads,
+                    *build,
+                    best,
+                    rounds,
+                    Growth {
+                        primary_single: growth(0),
+                        primary_packet: growth(1),
+                        random_single: growth(2),
+                        random_packet: growth(3),
+                    },
+                )
+            })
+            .collect()
     })
+}
+
+/// The table row of `setup`: its best times as Mrays/s, and the traversal
+/// counts of one more (untimed) pass of each kind.
+fn row(
+    setup: &TraversalSetup,
+    bvh: &Bvh,
+    threads: usize,
+    build: Duration,
+    best: &[Duration; 4],
+    rounds: usize,
+    growth_vs_first: Growth,
+) -> TraversalRow {
+    let mrays = |n: usize, t: Duration| n as f64 / t.as_secs_f64() / 1e6;
+    let mut stats = [TraversalStats::default(); 3];
+    for p in &setup.primary_packets {
+        bvh.intersect_packet_with_stats(p, &mut stats[0]);
+    }
+    for r in &setup.primary {
+        bvh.intersect_with_stats(r, &mut stats[1]);
+    }
+    for p in &setup.random_packets {
+        bvh.intersect_packet_with_stats(p, &mut stats[2]);
+    }
+    TraversalRow {
+        scene: setup.name.clone(),
+        primitives: setup.prims.len(),
+        threads,
+        build_s: build.as_secs_f64(),
+        resolution: setup.resolution,
+        primary_single_mrays: mrays(setup.primary.len(), best[0]),
+        primary_packet_mrays: mrays(setup.primary.len(), best[1]),
+        random_single_mrays: mrays(setup.random.len(), best[2]),
+        random_packet_mrays: mrays(setup.random.len(), best[3]),
+        primary_packet_stats: stats[0],
+        primary_single_stats: stats[1],
+        random_packet_stats: stats[2],
+        growth_vs_first,
+        rounds,
+    }
 }
 
 #[cfg(test)]

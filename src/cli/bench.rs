@@ -119,10 +119,10 @@ fn traversal(args: TraversalArgs) -> CliResult {
             .collect(),
     };
     let mut rows = Vec::new();
-    for setup in &setups {
-        for &threads in &args.threads {
-            let row = measure(setup, threads.max(1), args.rounds.max(1));
-            if !args.json {
+    for &threads in &args.threads {
+        let measured = measure(&setups, threads.max(1), args.rounds.max(1));
+        if !args.json {
+            for row in &measured {
                 let (p, s) = (&row.primary_packet_stats, &row.primary_single_stats);
                 println!(
                     "{:<14} {:>8} prims {}t  build {:>7.1} ms  primary {}x{}: single {:>6.2} packet8 {:>6.2} \
@@ -144,8 +144,24 @@ fn traversal(args: TraversalArgs) -> CliResult {
                     p.caption(),
                 );
             }
-            rows.push(row);
+            if let [first, rest @ ..] = measured.as_slice() {
+                for row in rest {
+                    let g = &row.growth_vs_first;
+                    println!(
+                        "time per ray, {} -> {} ({}t, same rounds): primary single {:.2}x packet8 {:.2}x, \
+                         random single {:.2}x packet8 {:.2}x",
+                        first.scene,
+                        row.scene,
+                        row.threads,
+                        g.primary_single,
+                        g.primary_packet,
+                        g.random_single,
+                        g.random_packet,
+                    );
+                }
+            }
         }
+        rows.extend(measured);
     }
     if args.json {
         println!(
@@ -154,7 +170,8 @@ fn traversal(args: TraversalArgs) -> CliResult {
         );
     } else {
         println!(
-            "(BVH; best of {} rounds after a warm-up; random rays: {} from the scene box, uniform directions)",
+            "(BVH; best of {} rounds after a warm-up, scenes and variants interleaved round by round; \
+             random rays: {} from the scene box, uniform directions)",
             args.rounds, args.random
         );
     }
