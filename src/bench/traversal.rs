@@ -235,15 +235,14 @@ pub fn measure(setups: &[TraversalSetup], threads: usize, rounds: usize) -> Vec<
             ];
             std::array::from_fn::<f64, 4, _>(|k| best[k].as_secs_f64() / rays[k].max(1) as f64)
         };
-        let first = setups.first().map(|s| per_ray(s, &best[0]));
+        let per_ray: Vec<[f64; 4]> = setups.iter().zip(&best).map(|(s, b)| per_ray(s, b)).collect();
         setups
             .iter()
             .zip(&bvhs)
             .zip(builds.iter().zip(&best))
-            .map(|((setup, bvh), (build, best))| {
-                let own = per_ray(setup, best);
-                let first = first.unwrap_or(own);
-                let growth = |k: usize| own[k] / first[k];
+            .zip(&per_ray)
+            .map(|(((setup, bvh), (build, best)), own)| {
+                let growth = |k: usize| own[k] / per_ray[0][k];
                 row(
                     setup,
                     bvh,

@@ -16,10 +16,10 @@
 //!   keeps the multiply off the exit's dependency chain; `min(a, b)·s` equals
 //!   `min(a·s, b·s)` exactly, so the current hit's t is scaled alike.
 //!
-//! The single ray picks each axis' entry and exit plane once, by the sign of its
+//! Each ray picks each axis' entry and exit plane once, by the sign of its
 //! direction (Williams et al., "An efficient and robust ray-box intersection
-//! algorithm", JGT 2005); the packet takes the min and max of both planes per
-//! lane. For every non-empty box the two give the same bits, NaN cases included.
+//! algorithm", JGT 2005): the single ray by index, the packet lane by lane with
+//! a select. For every non-empty box the two give the same bits, NaN cases included.
 //!
 //! The hit test is `entry ≤ exit` with the current hit's t folded into the exit:
 //! a box entered exactly at the current hit's t is kept, as the tie rule of
@@ -59,7 +59,7 @@ fn fast_max(a: f32, b: f32) -> f32 {
 
 /// A ray prepared for slab tests: origin, reciprocal direction (plain for
 /// entry planes, scaled by [`FAR_SCALE`] for exit planes), `t_min`, and per axis
-/// which box corner holds the entry plane. 68 bytes.
+/// which box corner holds the entry plane. 64 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct SlabRay {
     /// Origin.
@@ -118,7 +118,7 @@ impl SlabRay {
     }
 }
 
-/// A ray packet prepared for slab tests. For `f32x8`: 10 vectors = 320 bytes.
+/// A ray packet prepared for slab tests. For `f32x8`: 13 vectors = 416 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct SlabPacket<F: SimdFloat> {
     /// Origins.
@@ -127,6 +127,8 @@ pub struct SlabPacket<F: SimdFloat> {
     pub inv_dir: V3<F>,
     /// `inv_dir · FAR_SCALE`, for exit planes.
     pub inv_dir_far: V3<F>,
+    /// Per axis, the lanes entering boxes through their `max` plane (`1/d < 0`).
+    enters_max: V3<F>,
     /// Smallest accepted t per lane.
     pub t_min: F,
 }
@@ -153,6 +155,11 @@ impl<F: SimdFloat> SlabPacket<F> {
                 y: inv_dir.y * scale,
                 z: inv_dir.z * scale,
             },
+            enters_max: V3 {
+                x: inv_dir.x.lt(F::splat(0.0)),
+                y: inv_dir.y.lt(F::splat(0.0)),
+                z: inv_dir.z.lt(F::splat(0.0)),
+            },
             t_min: rays.t_min,
         }
     }
@@ -161,18 +168,17 @@ impl<F: SimdFloat> SlabPacket<F> {
     /// and every lane's entry t (meaningful in the mask's lanes).
     #[inline(always)]
     pub fn entry(&self, min: Vec3, max: Vec3, t_max: F) -> (F, F) {
-        // Per lane the entry plane is the nearer, the exit plane the farther
-        // (the scaled reciprocal has the same sign, so it picks the same plane).
-        let slab = |lo: f32, hi: f32, o: F, inv: F, inv_far: F| {
-            let (lo, hi) = (F::splat(lo) - o, F::splat(hi) - o);
-            let near = (hi * inv).fast_min(lo * inv);
-            let far = (lo * inv_far).fast_max(hi * inv_far);
+        // Per lane the entry and exit planes by the sign of 1/d, as the single ray picks them.
+        let slab = |lo: f32, hi: f32, o: F, inv: F, inv_far: F, enters_max: F| {
+            let (lo, hi) = (F::splat(lo), F::splat(hi));
+            let near = (enters_max.select(hi, lo) - o) * inv;
+            let far = (enters_max.select(lo, hi) - o) * inv_far;
             (near, far)
         };
-        let (i, f) = (&self.inv_dir, &self.inv_dir_far);
-        let (nx, fx) = slab(min.x, max.x, self.origin.x, i.x, f.x);
-        let (ny, fy) = slab(min.y, max.y, self.origin.y, i.y, f.y);
-        let (nz, fz) = slab(min.z, max.z, self.origin.z, i.z, f.z);
+        let (i, f, m) = (&self.inv_dir, &self.inv_dir_far, &self.enters_max);
+        let (nx, fx) = slab(min.x, max.x, self.origin.x, i.x, f.x, m.x);
+        let (ny, fy) = slab(min.y, max.y, self.origin.y, i.y, f.y, m.y);
+        let (nz, fz) = slab(min.z, max.z, self.origin.z, i.z, f.z, m.z);
         let t_near = nx.fast_max(ny.fast_max(nz.fast_max(self.t_min)));
         let t_far = fx.fast_min(fy.fast_min(fz.fast_min(t_max * F::splat(FAR_SCALE))));
         (t_near.le(t_far), t_near)

@@ -44,7 +44,7 @@ pub fn traverse<Q: RayQuery, S: Counter>(
         } else {
             // Test all children's boxes at once.
             let node = &bvh.wide[next.node()];
-            let (bits, t) = node.entry(slab, query.t_max());
+            let (mut bits, t) = node.entry(slab, query.t_max());
             let rest = bits & bits.wrapping_sub(1);
             if bits != 0 && rest & rest.wrapping_sub(1) == 0 {
                 // One or two children met (nine visits in ten): descend into
@@ -61,7 +61,6 @@ pub fn traverse<Q: RayQuery, S: Counter>(
             }
             // More: push them sorted by decreasing entry t
             // (insertion), so the nearest is popped next.
-            let mut bits = bits;
             let base = stack.len();
             while bits != 0 {
                 let i = bits.trailing_zeros() as usize;

@@ -132,13 +132,6 @@ impl<F: SimdFloat> WideNodeOf<F> {
         }
     }
 
-    /// What child `i` leads to; None for an empty slot.
-    #[inline(always)]
-    pub fn child(&self, i: usize) -> Option<ChildRef> {
-        let slot = self.slot(i);
-        (!slot.is_empty()).then_some(slot)
-    }
-
     /// What slot `i` holds, the empty slot included.
     #[inline(always)]
     pub fn slot(&self, i: usize) -> ChildRef {
@@ -328,7 +321,10 @@ mod tests {
     /// every path, the pending children of the nodes above plus the node's own.
     fn stack_need(bvh: &Bvh, at: usize, pending: usize) -> usize {
         let node = &bvh.wide[at];
-        let children: Vec<ChildRef> = (0..WIDTH).filter_map(|i| node.child(i)).collect();
+        let children: Vec<ChildRef> = (0..WIDTH)
+            .map(|i| node.slot(i))
+            .filter(|c| !c.is_empty())
+            .collect();
         let below = children
             .iter()
             .filter(|c| !c.is_leaf())
