@@ -56,7 +56,7 @@ use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
-use leaf::LeafPrim;
+use leaf::{BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, TriangleBlock};
 use node::{Node, NodeId, NodePair, ROOT};
 
 /// A BVH (binary nodes for packets, wide nodes for single rays) owning a
@@ -69,8 +69,13 @@ pub struct Bvh {
     wide: Vec<wide::WideNode>,
     /// Per binary node, the wide node made from it (see [`wide::Collapsed::twin`]).
     wide_twin: Vec<u32>,
-    /// Bounded primitives in leaf order (a leaf is a contiguous run).
+    /// The records of leaves that are not all triangles, in leaf order (a leaf
+    /// is a contiguous run).
     prims: Vec<LeafPrim>,
+    /// The triangles of all-triangle leaves, in leaf order (a leaf is a contiguous run).
+    blocks: Vec<TriangleBlock>,
+    /// Primitives in the tree.
+    bounded: usize,
     /// The primitives `prims` refers to rather than holds (see [`leaf`]).
     others: Vec<Primitive>,
     /// Primitives tested by every ray (no finite box).
@@ -128,25 +133,57 @@ impl Bvh {
                 }
             }
         }
-        let (pairs, order) = if boxes.is_empty() {
+        let (mut pairs, order) = if boxes.is_empty() {
             (vec![NodePair([Node::EMPTY; 2])], Vec::new())
         } else {
             let built = build_sah::build(&boxes, options);
             (built.pairs, built.order)
         };
-        let mut others = Vec::new();
-        let leaf_prims = order
-            .iter()
-            .map(|&k| {
-                let id = bounded_ids[k as usize];
-                LeafPrim::new(&prims[id as usize], id, &mut others)
-            })
+        // Store each leaf's primitives, in build order: as triangle blocks if
+        // they are all triangles, else as records; the leaf nodes then point there.
+        let (mut leaf_prims, mut blocks, mut others) = (Vec::new(), Vec::new(), Vec::new());
+        let mut leaves: Vec<&mut Node> = pairs
+            .iter_mut()
+            .flat_map(|pair| &mut pair.0)
+            .filter(|n| n.is_leaf() && n.meta != 0)
             .collect();
+        leaves.sort_unstable_by_key(|n| n.first);
+        for node in leaves {
+            let LeafRef::Prims(range) = node.contents() else {
+                unreachable!("the build makes leaves of primitive ranges")
+            };
+            let records: Vec<LeafPrim> = order[range]
+                .iter()
+                .map(|&k| {
+                    let id = bounded_ids[k as usize];
+                    LeafPrim::new(&prims[id as usize], id, &mut others)
+                })
+                .collect();
+            let triangles: Option<Vec<_>> = records.iter().map(LeafPrim::triangle_lane).collect();
+            let leaf = match triangles {
+                Some(triangles) => {
+                    let at = blocks.len();
+                    blocks.extend(triangles.chunks(BLOCK_SIZE).map(TriangleBlock::new));
+                    LeafRef::Triangles {
+                        blocks: at..blocks.len(),
+                        count: records.len(),
+                    }
+                }
+                None => {
+                    let at = leaf_prims.len();
+                    leaf_prims.extend(records);
+                    LeafRef::Prims(at..leaf_prims.len())
+                }
+            };
+            (node.first, node.meta) = leaf.encode();
+        }
         let mut bvh = Self {
             pairs,
             wide: Vec::new(),
             wide_twin: Vec::new(),
             prims: leaf_prims,
+            blocks,
+            bounded: order.len(),
             others,
             unbounded,
             unbounded_ids,
@@ -184,26 +221,83 @@ impl Bvh {
         }
     }
 
-    /// The scalar kernel of the primitive at leaf position `i`.
+    /// True when no primitive is in the tree.
     #[inline(always)]
-    pub fn intersect_leaf_prim(&self, i: usize, ray: &Ray, hit: &mut Hit) -> bool {
-        self.prims[i].intersect(&self.others, ray, hit)
+    pub fn is_empty(&self) -> bool {
+        self.bounded == 0
     }
 
-    /// The packet kernel of the primitive at leaf position `i`.
+    /// Test `ray` against the primitives of `leaf`, recording hits in `hit`;
+    /// returns true if one was recorded. `any_hit` stops at the first.
+    #[inline(always)]
+    pub fn intersect_leaf<S: Counter>(
+        &self,
+        leaf: LeafRef,
+        ray: &Ray,
+        hit: &mut Hit,
+        any_hit: bool,
+        stats: &mut S,
+    ) -> bool {
+        let mut recorded = false;
+        match leaf {
+            LeafRef::Triangles { blocks, count } => {
+                for (i, block) in self.blocks[blocks].iter().enumerate() {
+                    (0..(count - i * BLOCK_SIZE).min(BLOCK_SIZE)).for_each(|_| stats.prim());
+                    recorded |= block.intersect(ray, hit);
+                    if recorded && any_hit {
+                        break;
+                    }
+                }
+            }
+            LeafRef::Prims(range) => {
+                for prim in &self.prims[range] {
+                    stats.prim();
+                    recorded |= prim.intersect(&self.others, ray, hit);
+                    if recorded && any_hit {
+                        break;
+                    }
+                }
+            }
+        }
+        recorded
+    }
+
+    /// Call `f` with each primitive of `leaf` in turn until it returns false.
+    #[inline(always)]
+    pub fn for_each_leaf_prim(&self, leaf: LeafRef, mut f: impl FnMut(LeafItem<'_>) -> bool) {
+        match leaf {
+            LeafRef::Triangles { blocks, count } => {
+                for lane in 0..count {
+                    let block = &self.blocks[blocks.start + lane / BLOCK_SIZE];
+                    if !f(LeafItem::BlockLane(block, lane % BLOCK_SIZE)) {
+                        return;
+                    }
+                }
+            }
+            LeafRef::Prims(range) => {
+                for prim in &self.prims[range] {
+                    if !f(LeafItem::Record(prim)) {
+                        return;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The packet kernel of a leaf's primitive.
     #[inline(always)]
     pub fn intersect_leaf_prim_packet<F: SimdFloat>(
         &self,
-        i: usize,
+        prim: LeafItem<'_>,
         rays: &RayPacket<F>,
         hits: &mut HitPacket<F>,
     ) {
-        self.prims[i].intersect_packet(&self.others, rays, hits);
+        prim.intersect_packet(&self.others, rays, hits);
     }
 
     /// The (padded) box of the whole tree; empty when no primitive is bounded.
     pub fn bounds(&self) -> Aabb {
-        if self.prims.is_empty() {
+        if self.is_empty() {
             return Aabb::EMPTY;
         }
         let root = self.node(ROOT);
@@ -213,7 +307,7 @@ impl Bvh {
     /// Node counts, depth and SAH cost.
     pub fn info(&self) -> BvhInfo {
         let mut info = BvhInfo {
-            primitives: self.prims.len(),
+            primitives: self.bounded,
             unbounded: self.unbounded.len(),
             skipped: self.skipped,
             nodes: 0,
@@ -225,9 +319,10 @@ impl Bvh {
                 + self.wide.len() * size_of::<wide::WideNode>()
                 + self.wide_twin.len() * size_of::<u32>()
                 + self.prims.len() * size_of::<LeafPrim>()
+                + self.blocks.len() * size_of::<TriangleBlock>()
                 + self.others.len() * size_of::<Primitive>(),
         };
-        if self.prims.is_empty() {
+        if self.is_empty() {
             return info;
         }
         let area = |n: &Node| f64::from(Aabb::new(n.min, n.max).surface_area());
@@ -240,8 +335,9 @@ impl Bvh {
             let weight = area(n) / root_area;
             if n.is_leaf() {
                 info.leaves += 1;
-                info.max_leaf_size = info.max_leaf_size.max(n.prims().len());
-                info.sah_cost += weight * n.prims().len() as f64;
+                let count = n.contents().count();
+                info.max_leaf_size = info.max_leaf_size.max(count);
+                info.sah_cost += weight * count as f64;
             } else {
                 info.sah_cost += weight;
                 stack.extend(n.children().map(|c| (c, depth + 1)));

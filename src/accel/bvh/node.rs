@@ -9,6 +9,7 @@
 
 use glam::Vec3;
 
+use crate::accel::bvh::leaf::LeafRef;
 use crate::bounds::Aabb;
 
 /// Names a node: `2·pair + side`.
@@ -32,12 +33,13 @@ pub const BOX_PADDING: f32 = 1.0 / 524_288.0;
 pub struct Node {
     /// Lower corner of the (padded) box.
     pub min: Vec3,
-    /// Leaf: index of the first primitive in the BVH's primitive order.
+    /// Leaf: index of its first primitive or triangle block (see [`LeafRef`]).
     /// Inner: index of the [`NodePair`] holding the two children.
     pub first: u32,
     /// Upper corner of the (padded) box.
     pub max: Vec3,
-    /// Leaf: primitive count. Inner: bit 31 set, split axis in the low two bits.
+    /// Leaf: primitive count, and whether they are triangle blocks (see
+    /// [`LeafRef`]). Inner: bit 31 set, split axis in the low two bits.
     pub meta: u32,
 }
 
@@ -84,10 +86,10 @@ impl Node {
         self.meta & INNER == 0
     }
 
-    /// Leaf: the primitive index range.
+    /// Leaf: what it holds (as built: the range of its primitives in build order).
     #[inline(always)]
-    pub fn prims(&self) -> std::ops::Range<usize> {
-        self.first as usize..(self.first + self.meta) as usize
+    pub fn contents(&self) -> LeafRef {
+        LeafRef::decode(self.first, self.meta)
     }
 
     /// Inner: the ids of the two children.
@@ -127,7 +129,7 @@ mod tests {
         let b = Aabb::new(Vec3::new(-1.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 3.0));
         let leaf = Node::leaf(b, 7, 3);
         assert!(leaf.is_leaf());
-        assert_eq!(leaf.prims(), 7..10);
+        assert_eq!(leaf.contents(), LeafRef::Prims(7..10));
         assert!(leaf.min.x < -1.0 && leaf.max.x > 1.0 && leaf.min.y == 0.0 && leaf.min.z < 2.0);
         let inner = Node::inner(b, 5, 2);
         assert!(!inner.is_leaf());

@@ -4,7 +4,7 @@
 //! the first primitive it hits anywhere in `[t_min, t_max]`.
 
 use crate::accel::bvh::Bvh;
-use std::ops::Range;
+use crate::accel::bvh::leaf::LeafRef;
 
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_packet::{PacketQuery, traverse_packet};
@@ -30,11 +30,8 @@ impl RayQuery for AnyHit<'_> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool {
-        prims.into_iter().any(|i| {
-            stats.prim();
-            bvh.intersect_leaf_prim(i, self.ray, &mut self.hit)
-        })
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
+        bvh.intersect_leaf(leaf, self.ray, &mut self.hit, true, stats)
     }
 }
 
@@ -52,7 +49,7 @@ pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
             return true;
         }
     }
-    if bvh.prims.is_empty() {
+    if bvh.is_empty() {
         return false;
     }
     traverse(bvh, ChildRef::ROOT, &SlabRay::new(ray), &mut query, stats)
@@ -80,18 +77,19 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, mask: F, stats: &mut S) {
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         self.rays.active = mask & self.pending;
-        for i in prims {
+        bvh.for_each_leaf_prim(leaf, |prim| {
             if self.rays.active.none() {
-                return;
+                return false;
             }
             stats.packet_prim(self.rays.active);
-            bvh.intersect_leaf_prim_packet(i, &self.rays, &mut self.hits);
+            bvh.intersect_leaf_prim_packet(prim, &self.rays, &mut self.hits);
             let hit = self.hits.hit_mask();
             self.pending = self.pending.and_not(hit);
             self.rays.active = self.rays.active.and_not(hit);
-        }
+            true
+        });
     }
 
     fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S) {

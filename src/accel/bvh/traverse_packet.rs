@@ -15,7 +15,7 @@
 //!
 //! One loop serves nearest-hit and any-hit queries ([`PacketQuery`]).
 
-use std::ops::Range;
+use crate::accel::bvh::leaf::LeafRef;
 
 use glam::Vec3;
 
@@ -47,7 +47,7 @@ pub trait PacketQuery<F: SimdFloat> {
     fn live(&self) -> F;
 
     /// Test the leaf primitives `prims` on the lanes of `mask`.
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, mask: F, stats: &mut S);
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
 
     /// Finish lane `lane` in the subtree `start` of the wide tree as a single ray.
     fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S);
@@ -101,7 +101,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     query: &mut Q,
     stats: &mut S,
 ) {
-    if bvh.prims.is_empty() {
+    if bvh.is_empty() {
         return;
     }
     let slab = SlabPacket::new(rays);
@@ -133,7 +133,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
             stats.packet_node(mask);
             let node = bvh.node(id);
             if node.is_leaf() {
-                query.leaf(bvh, node.prims(), mask, stats);
+                query.leaf(bvh, node.contents(), mask, stats);
                 break;
             }
             let [a, b] = node.children();
@@ -204,12 +204,13 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, mask: F, stats: &mut S) {
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         self.rays.active = mask;
-        for i in prims {
+        bvh.for_each_leaf_prim(leaf, |prim| {
             stats.packet_prim(mask);
-            bvh.intersect_leaf_prim_packet(i, &self.rays, self.hits);
-        }
+            bvh.intersect_leaf_prim_packet(prim, &self.rays, self.hits);
+            true
+        });
     }
 
     fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S) {

@@ -3,9 +3,8 @@
 //! t. One loop serves nearest-hit and any-hit queries ([`RayQuery`]); packet
 //! traversal finishes the lanes it leaves alone with it.
 
-use std::ops::Range;
-
 use crate::accel::bvh::Bvh;
+use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
 use crate::accel::bvh::wide::{ChildRef, WIDTH};
@@ -18,8 +17,8 @@ pub trait RayQuery {
     /// The largest t still of interest (the current hit's t for nearest-hit queries).
     fn t_max(&self) -> f32;
 
-    /// Test the leaf primitives `prims`; true ends the traversal.
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool;
+    /// Test the primitives of `leaf`; true ends the traversal.
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool;
 }
 
 /// Traverse the subtree under `start` (whose box the ray is known to meet, or
@@ -38,7 +37,7 @@ pub fn traverse<Q: RayQuery, S: Counter>(
     loop {
         stats.node();
         if next.is_leaf() {
-            if !next.is_empty() && query.leaf(bvh, next.prims(), stats) {
+            if !next.is_empty() && query.leaf(bvh, next.contents(), stats) {
                 return true;
             }
         } else {
@@ -103,11 +102,8 @@ impl RayQuery for Nearest<'_> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, prims: Range<usize>, stats: &mut S) -> bool {
-        for i in prims {
-            stats.prim();
-            bvh.intersect_leaf_prim(i, self.ray, self.hit);
-        }
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
+        bvh.intersect_leaf(leaf, self.ray, self.hit, false, stats);
         false
     }
 }
@@ -121,7 +117,7 @@ pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
         stats.prim();
         p.intersect(ray, id, &mut hit);
     }
-    if bvh.prims.is_empty() {
+    if bvh.is_empty() {
         return hit;
     }
     let slab = SlabRay::new(ray);

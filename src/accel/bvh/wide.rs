@@ -12,23 +12,22 @@
 //! (a 10⁶-triangle mesh is log₈ rather than log₄ of its leaves deep), for the
 //! same latency per visit: an `f32x8` test costs what an `f32x4` one does.
 
-use std::ops::Range;
-
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::MAX_DEPTH;
+use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::WIDE_STACK_SLOTS;
 use crate::bounds::Aabb;
 use crate::simd::{SimdFloat, SimdU32};
 
-/// What a child slot of a wide node leads to: an inner wide node, or a leaf's
-/// run of primitives. 8 bytes.
+/// What a child slot of a wide node leads to: an inner wide node, or a leaf
+/// (encoded as the binary tree's leaf node encodes it, see [`LeafRef`]). 8 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ChildRef {
-    /// Inner: index of the wide node. Leaf: first primitive in leaf order.
+    /// Inner: index of the wide node. Leaf: its first primitive or block.
     index: u32,
-    /// 0 for an inner node, else the leaf's primitive count.
+    /// 0 for an inner node, else the leaf's count word.
     count: u32,
 }
 
@@ -42,10 +41,13 @@ impl ChildRef {
         Self { index, count: 0 }
     }
 
-    /// The leaf of `count` primitives from `first` on.
+    /// The leaf whose node has `first` and count word `word` (see [`LeafRef`]).
     #[inline(always)]
-    pub fn leaf(first: u32, count: u32) -> Self {
-        Self { index: first, count }
+    pub fn leaf(first: u32, word: u32) -> Self {
+        Self {
+            index: first,
+            count: word,
+        }
     }
 
     /// True for a leaf, and for the empty slot (see [`ChildRef::is_empty`]).
@@ -67,10 +69,10 @@ impl ChildRef {
         self.index as usize
     }
 
-    /// Leaf: its primitives' positions in leaf order.
+    /// Leaf: what it holds.
     #[inline(always)]
-    pub fn prims(self) -> Range<usize> {
-        self.index as usize..(self.index + self.count) as usize
+    pub fn contents(self) -> LeafRef {
+        LeafRef::decode(self.index, self.count)
     }
 }
 
@@ -106,9 +108,9 @@ pub type WideNode = WideNodeOf<NodeLanes>;
 pub struct WideNodeOf<F: SimdFloat> {
     /// `[min; max]` planes of the children along x, y, z: `bounds[axis][corner][child]`.
     bounds: [[F::Array; 2]; 3],
-    /// Per child: inner node index, or first primitive of a leaf.
+    /// Per child: inner node index, or a leaf's first primitive or block.
     index: <F::U32 as SimdU32>::Array,
-    /// Per child: 0 for an inner node, else the leaf's primitive count; `u32::MAX` for an empty slot.
+    /// Per child: 0 for an inner node, else the leaf's count word; `u32::MAX` for an empty slot.
     count: <F::U32 as SimdU32>::Array,
 }
 
@@ -184,7 +186,7 @@ pub fn collapse(bvh: &Bvh) -> Collapsed {
         nodes: vec![WideNode::empty()],
         twin: vec![u32::MAX; 2 * bvh.pairs.len()],
     };
-    if !bvh.prims.is_empty() {
+    if !bvh.is_empty() {
         fill(bvh, ROOT, 0, 0, &mut out);
     }
     out
@@ -352,33 +354,36 @@ mod tests {
         }
     }
 
-    /// The wide tree covers exactly the binary tree's leaves, once each.
+    /// The wide tree covers every bounded primitive exactly once, in leaves
+    /// of primitive records and of triangle blocks alike.
     #[test]
     fn collapse_keeps_every_leaf_once() {
         for prims in [
             scenes::random_mixed(3000, 1),
+            scenes::bumpy_sphere(3000, 1),
             scenes::random_spheres(1, 2),
             Vec::new(),
         ] {
             let bvh = Bvh::new(&prims);
-            let mut covered = vec![0u32; bvh.prims.len()];
+            let mut covered = vec![0u32; prims.len()];
             let mut stack = vec![0usize];
             while let Some(i) = stack.pop() {
                 let node = &bvh.wide[i];
                 for c in 0..WIDTH {
-                    match node.count.as_ref()[c] {
-                        EMPTY_SLOT => {}
-                        0 => stack.push(node.index.as_ref()[c] as usize),
-                        count => {
-                            let first = node.index.as_ref()[c] as usize;
-                            covered[first..first + count as usize]
-                                .iter_mut()
-                                .for_each(|x| *x += 1);
-                        }
+                    let slot = node.slot(c);
+                    if slot.is_empty() {
+                    } else if !slot.is_leaf() {
+                        stack.push(slot.node());
+                    } else {
+                        bvh.for_each_leaf_prim(slot.contents(), |p| {
+                            covered[p.id() as usize] += 1;
+                            true
+                        });
                     }
                 }
             }
-            assert!(covered.iter().all(|&x| x == 1));
+            assert!(covered.iter().all(|&x| x <= 1));
+            assert_eq!(covered.iter().sum::<u32>() as usize, bvh.info().primitives);
         }
     }
 }
