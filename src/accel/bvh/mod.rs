@@ -7,7 +7,8 @@
 //! ([`traverse_single`], one SIMD test per node), and so do the packet lanes
 //! left alone deep in the tree;
 //! shadow rays use either ([`occlusion`]). Leaves call the primitives' own
-//! kernels.
+//! kernels; a leaf of triangles holds them in a block a single ray tests at
+//! once ([`leaf`]).
 //!
 //! Primitives without a finite box (infinite planes, and anything whose box
 //! overflows) are kept outside the tree and tested directly by every ray;
