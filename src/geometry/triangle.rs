@@ -220,7 +220,8 @@ impl Intersect for ProjectedTriangle {
     }
 }
 
-/// A constant of the projected test, naming a field of [`ProjectedTriangle`].
+/// A constant of the projected test, naming a field of [`ProjectedTriangle`];
+/// its value is the constant's row in a [`ProjectedTriangles`] block.
 #[derive(Clone, Copy)]
 enum Constant {
     Nu,
@@ -232,6 +233,21 @@ enum Constant {
     BNv,
     CNu,
     CNv,
+}
+
+impl Constant {
+    /// Every constant, in row order.
+    const ALL: [Constant; 9] = [
+        Constant::Nu,
+        Constant::Nv,
+        Constant::Nd,
+        Constant::Au,
+        Constant::Av,
+        Constant::BNu,
+        Constant::BNv,
+        Constant::CNu,
+        Constant::CNv,
+    ];
 }
 
 /// Where the packet kernel reads a triangle's constants: a
@@ -276,52 +292,27 @@ fn intersect_packet_lane<F: SimdFloat, T: TriangleConstants>(
     prim: u32,
     hits: &mut HitPacket<F>,
 ) {
-    {
-        let k = tri.axis(i) as usize;
-        if k == DEGENERATE as usize {
-            return;
-        }
-        let c = |c: Constant| F::splat(tri.constant(i, c));
-        let [ku, kv] = OTHER_AXES[k];
-        let (o, d) = (&rays.origin, &rays.dir);
-        let (n_u, n_v) = (c(Constant::Nu), c(Constant::Nv));
-        let denom = d.axis(k) + n_u * d.axis(ku) + n_v * d.axis(kv);
-        let t = (c(Constant::Nd) - o.axis(k) - n_u * o.axis(ku) - n_v * o.axis(kv)) / denom;
-        let mut mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
-        if mask.none() {
-            return;
-        }
-        let hu = o.axis(ku) + t * d.axis(ku) - c(Constant::Au);
-        let hv = o.axis(kv) + t * d.axis(kv) - c(Constant::Av);
-        let beta = hu * c(Constant::BNu) + hv * c(Constant::BNv);
-        let gamma = hu * c(Constant::CNu) + hv * c(Constant::CNv);
-        let low = F::splat(-EDGE_EPSILON);
-        mask = mask & beta.ge(low) & gamma.ge(low) & (beta + gamma).le(F::splat(1.0 + EDGE_EPSILON));
-        hits.record(mask, t, prim, beta, gamma);
+    let k = tri.axis(i) as usize;
+    if k == DEGENERATE as usize {
+        return;
     }
-}
-
-impl<F: SimdFloat> TriangleConstants for ProjectedTriangles<F> {
-    #[inline(always)]
-    fn axis(&self, i: usize) -> u32 {
-        self.k.as_ref()[i] as u32
+    let c = |c: Constant| F::splat(tri.constant(i, c));
+    let [ku, kv] = OTHER_AXES[k];
+    let (o, d) = (&rays.origin, &rays.dir);
+    let (n_u, n_v) = (c(Constant::Nu), c(Constant::Nv));
+    let denom = d.axis(k) + n_u * d.axis(ku) + n_v * d.axis(kv);
+    let t = (c(Constant::Nd) - o.axis(k) - n_u * o.axis(ku) - n_v * o.axis(kv)) / denom;
+    let mut mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
+    if mask.none() {
+        return;
     }
-
-    #[inline(always)]
-    fn constant(&self, i: usize, c: Constant) -> f32 {
-        let lanes = match c {
-            Constant::Nu => &self.n_u,
-            Constant::Nv => &self.n_v,
-            Constant::Nd => &self.n_d,
-            Constant::Au => &self.a_u,
-            Constant::Av => &self.a_v,
-            Constant::BNu => &self.b_nu,
-            Constant::BNv => &self.b_nv,
-            Constant::CNu => &self.c_nu,
-            Constant::CNv => &self.c_nv,
-        };
-        lanes.as_ref()[i]
-    }
+    let hu = o.axis(ku) + t * d.axis(ku) - c(Constant::Au);
+    let hv = o.axis(kv) + t * d.axis(kv) - c(Constant::Av);
+    let beta = hu * c(Constant::BNu) + hv * c(Constant::BNv);
+    let gamma = hu * c(Constant::CNu) + hv * c(Constant::CNv);
+    let low = F::splat(-EDGE_EPSILON);
+    mask = mask & beta.ge(low) & gamma.ge(low) & (beta + gamma).le(F::splat(1.0 + EDGE_EPSILON));
+    hits.record(mask, t, prim, beta, gamma);
 }
 
 /// Up to `F::LANES` triangles' projected-barycentric constants in
@@ -336,24 +327,8 @@ impl<F: SimdFloat> TriangleConstants for ProjectedTriangles<F> {
 pub struct ProjectedTriangles<F: SimdFloat> {
     /// Dropped axis `k` of each lane as 0.0, 1.0 or 2.0; 3.0 for a degenerate or unused lane.
     k: F::Array,
-    /// See [`ProjectedTriangle`], lane by lane.
-    n_u: F::Array,
-    /// See [`ProjectedTriangle`].
-    n_v: F::Array,
-    /// See [`ProjectedTriangle`].
-    n_d: F::Array,
-    /// See [`ProjectedTriangle`].
-    a_u: F::Array,
-    /// See [`ProjectedTriangle`].
-    a_v: F::Array,
-    /// See [`ProjectedTriangle`].
-    b_nu: F::Array,
-    /// See [`ProjectedTriangle`].
-    b_nv: F::Array,
-    /// See [`ProjectedTriangle`].
-    c_nu: F::Array,
-    /// See [`ProjectedTriangle`].
-    c_nv: F::Array,
+    /// The other constants of [`ProjectedTriangle`], one row per [`Constant`], lane by lane.
+    constants: [F::Array; 9],
     /// Primitive index each lane's hit reports.
     ids: <F::U32 as SimdU32>::Array,
 }
@@ -370,7 +345,7 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
             tris.len(),
             F::LANES
         );
-        let lanes = |field: fn(&ProjectedTriangle) -> f32, unused: f32| {
+        let lanes = |field: &dyn Fn(&ProjectedTriangle) -> f32, unused: f32| {
             let mut a = F::Array::default();
             a.as_mut().fill(unused);
             for (lane, (t, _)) in a.as_mut().iter_mut().zip(tris) {
@@ -383,16 +358,8 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
             *lane = *id;
         }
         Self {
-            k: lanes(|t| t.k as f32, DEGENERATE as f32),
-            n_u: lanes(|t| t.n_u, 0.0),
-            n_v: lanes(|t| t.n_v, 0.0),
-            n_d: lanes(|t| t.n_d, 0.0),
-            a_u: lanes(|t| t.a_u, 0.0),
-            a_v: lanes(|t| t.a_v, 0.0),
-            b_nu: lanes(|t| t.b_nu, 0.0),
-            b_nv: lanes(|t| t.b_nv, 0.0),
-            c_nu: lanes(|t| t.c_nu, 0.0),
-            c_nv: lanes(|t| t.c_nv, 0.0),
+            k: lanes(&|t| t.k as f32, DEGENERATE as f32),
+            constants: Constant::ALL.map(|c| lanes(&|t| t.constant(0, c), 0.0)),
             ids,
         }
     }
@@ -416,10 +383,8 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
     #[inline]
     pub fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
         let k = F::from_array(self.k);
-        let [n_u, n_v, n_d, a_u, a_v, b_nu, b_nv, c_nu, c_nv] = [
-            self.n_u, self.n_v, self.n_d, self.a_u, self.a_v, self.b_nu, self.b_nv, self.c_nu, self.c_nv,
-        ]
-        .map(F::from_array);
+        // The rows, in `Constant` order.
+        let [n_u, n_v, n_d, a_u, a_v, b_nu, b_nv, c_nu, c_nv] = self.constants.map(F::from_array);
         // Each lane's ray components along its own axes k, ku, kv.
         let (on_x, on_y) = (k.eq(F::splat(0.0)), k.eq(F::splat(1.0)));
         let per_lane_axes = |v: Vec3| {
@@ -461,6 +426,18 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
             }
         }
         recorded
+    }
+}
+
+impl<F: SimdFloat> TriangleConstants for ProjectedTriangles<F> {
+    #[inline(always)]
+    fn axis(&self, i: usize) -> u32 {
+        self.k.as_ref()[i] as u32
+    }
+
+    #[inline(always)]
+    fn constant(&self, i: usize, c: Constant) -> f32 {
+        self.constants[c as usize].as_ref()[i]
     }
 }
 

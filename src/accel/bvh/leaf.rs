@@ -31,7 +31,7 @@ pub type BlockLanes = wide::f32x4;
 /// Triangles per [`TriangleBlock`].
 pub const BLOCK_SIZE: usize = 4;
 
-/// Four of a leaf's triangles, tested by one ray at once. 176 bytes.
+/// Up to four of a leaf's triangles, tested by one ray at once. 192 bytes.
 pub type TriangleBlock = ProjectedTriangles<BlockLanes>;
 
 /// Marks a leaf of [`TriangleBlock`]s in its node's count word.

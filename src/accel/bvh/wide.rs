@@ -372,14 +372,16 @@ mod tests {
                 for c in 0..WIDTH {
                     let slot = node.slot(c);
                     if slot.is_empty() {
-                    } else if !slot.is_leaf() {
-                        stack.push(slot.node());
-                    } else {
-                        bvh.for_each_leaf_prim(slot.contents(), |p| {
-                            covered[p.id() as usize] += 1;
-                            true
-                        });
+                        continue;
                     }
+                    if !slot.is_leaf() {
+                        stack.push(slot.node());
+                        continue;
+                    }
+                    bvh.for_each_leaf_prim(slot.contents(), |p| {
+                        covered[p.id() as usize] += 1;
+                        true
+                    });
                 }
             }
             assert!(covered.iter().all(|&x| x <= 1));
