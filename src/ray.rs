@@ -2,6 +2,8 @@
 
 use glam::Vec3;
 
+use crate::simd::SimdFloat;
+
 /// Primitive index of a hit record that has hit nothing.
 pub const NO_HIT: u32 = u32::MAX;
 
@@ -96,6 +98,37 @@ impl Hit {
     #[inline(always)]
     pub fn accepts(&self, t: f32, t_min: f32, prim: u32) -> bool {
         t >= t_min && t < f32::INFINITY && (t < self.t || (t == self.t && prim < self.prim))
+    }
+
+    /// Settle the lanes of a block kernel: of the lanes set in `candidates`
+    /// (hits within `[t_min, self.t]`), record each one [`Hit::accepts`], in
+    /// lane order, with its `t`, `u`, `v` and `ids` entry; true if any was recorded.
+    /// The result is the nearest by the tie rule, whatever the lane order.
+    #[inline(always)]
+    pub fn record_nearest_lane<F: SimdFloat>(
+        &mut self,
+        candidates: u32,
+        t: F,
+        u: F,
+        v: F,
+        ids: &[u32],
+        t_min: f32,
+    ) -> bool {
+        if candidates == 0 {
+            return false;
+        }
+        let (t, u, v) = (t.to_array(), u.to_array(), v.to_array());
+        let (mut lanes, mut recorded) = (candidates, false);
+        while lanes != 0 {
+            let i = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
+            let (t, id) = (t.as_ref()[i], ids[i]);
+            if self.accepts(t, t_min, id) {
+                self.record(t, id, u.as_ref()[i], v.as_ref()[i]);
+                recorded = true;
+            }
+        }
+        recorded
     }
 
     /// Record a hit (the caller has checked [`Hit::accepts`]).

@@ -7,7 +7,8 @@
 
 mod common;
 
-use common::{poisoned_rays, random_ray};
+use common::block::{BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel};
+use common::poisoned_rays;
 use glam::Vec3;
 use raypack::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
 use raypack::geometry::{Intersect, Triangle};
@@ -17,148 +18,63 @@ use raypack::rng::Rng;
 use raypack::simd::SimdFloat;
 use wide::{f32x4, f32x8};
 
-const RAYS: usize = 400_000;
+/// The triangle block and its scalar twin, the projected triangle kernel.
+struct Triangles;
+
+impl BlockKernel for Triangles {
+    type Shape = ProjectedTriangle;
+    const EMPTY: ProjectedTriangle = ProjectedTriangle::ZERO_AREA;
+
+    fn scalar(tri: &ProjectedTriangle, id: u32, ray: &Ray, hit: &mut Hit) -> bool {
+        tri.intersect(ray, id, hit)
+    }
+
+    fn block<F: SimdFloat>(tris: &[(ProjectedTriangle, u32)], ray: &Ray, hit: &mut Hit) -> bool {
+        ProjectedTriangles::<F>::new(tris).intersect(ray, hit)
+    }
+
+    fn packet(tri: &ProjectedTriangle, id: u32, rays: &RayPacket<f32x8>, hits: &mut HitPacket<f32x8>) {
+        tri.intersect_packet(rays, id, hits);
+    }
+
+    fn block_lane_packet(
+        tris: &[(ProjectedTriangle, u32)],
+        lane: usize,
+        rays: &RayPacket<f32x8>,
+        hits: &mut HitPacket<f32x8>,
+    ) {
+        ProjectedTriangles::<f32x4>::new(tris).intersect_packet(lane, rays, hits);
+    }
+}
 
 /// A random triangle around the origin: usually large enough that rays at
 /// the unit cube often hit it, one in ten degenerate (collinear), one in ten tiny.
-fn random_triangle(rng: &mut Rng) -> Triangle {
+fn random_triangle(rng: &mut Rng) -> ProjectedTriangle {
     let a = rng.point_in(Vec3::splat(-0.5), Vec3::splat(0.5));
     let kind = rng.below(10);
     let mut edge = |size: f32| size * rng.unit_vector();
-    match kind {
+    let t = match kind {
         0 => Triangle::new(a, 2.0 * a, 3.0 * a),
         1 => Triangle::new(a, a + edge(1e-4), a + edge(1e-4)),
         _ => Triangle::new(a, a + edge(2.0), a + edge(2.0)),
-    }
-}
-
-/// A record's fields bit for bit (NaN t included, which `==` never equals).
-fn bits((hit, recorded): (Hit, bool)) -> ([u32; 4], bool) {
-    (
-        [hit.t.to_bits(), hit.prim, hit.u.to_bits(), hit.v.to_bits()],
-        recorded,
-    )
-}
-
-/// The record a ray brings into a leaf: nothing yet, or an earlier hit (some
-/// with primitive indices that tie-break against the block's).
-fn earlier_hit(rng: &mut Rng, ray: &Ray) -> Hit {
-    let mut hit = Hit::none(ray);
-    if rng.below(4) == 0 {
-        hit.record(rng.range(0.0, 4.0), rng.below(20), 0.25, 0.5);
-    }
-    hit
-}
-
-/// The scalar kernel over `tris` in the given order: what a leaf of records computes.
-fn scalar(tris: &[(ProjectedTriangle, u32)], ray: &Ray, prior: Hit) -> (Hit, bool) {
-    let mut hit = prior;
-    let mut recorded = false;
-    for (t, id) in tris {
-        recorded |= t.intersect(ray, *id, &mut hit);
-    }
-    (hit, recorded)
-}
-
-/// The block kernel at width `F` over `tris`.
-fn block<F: SimdFloat>(tris: &[(ProjectedTriangle, u32)], ray: &Ray, prior: Hit) -> (Hit, bool) {
-    let mut hit = prior;
-    let recorded = ProjectedTriangles::<F>::new(tris).intersect(ray, &mut hit);
-    (hit, recorded)
-}
-
-/// Every lane position alone (the others unused), and whole blocks in both
-/// orders, give exactly the scalar records (bit for bit: the same arithmetic).
-fn agrees_with_scalar<F: SimdFloat>(seed: u64) {
-    let mut rng = Rng::new(seed);
-    let (mut lane_hits, mut lane_tests) = (0usize, 0usize);
-    for _ in 0..RAYS / F::LANES {
-        let tris: Vec<(ProjectedTriangle, u32)> = (0..F::LANES)
-            .map(|_| (*random_triangle(&mut rng).projected(), rng.below(20)))
-            .collect();
-        for _ in 0..F::LANES {
-            let ray = random_ray(&mut rng, Vec3::splat(-0.5), Vec3::splat(0.5));
-            let prior = earlier_hit(&mut rng, &ray);
-            // Lane by lane: triangle i in lane i, every other lane unused.
-            for (i, tri) in tris.iter().enumerate() {
-                let mut alone = vec![(ProjectedTriangle::ZERO_AREA, 0); i];
-                alone.push(*tri);
-                let want = scalar(&[*tri], &ray, prior);
-                assert_eq!(
-                    bits(block::<F>(&alone, &ray, prior)),
-                    bits(want),
-                    "lane {i}, {tri:?}, {ray:?}, {prior:?}"
-                );
-                lane_tests += 1;
-                lane_hits += want.1 as usize;
-            }
-            // The whole block, whichever order the scalar loop takes.
-            let mut reversed = tris.clone();
-            reversed.reverse();
-            let want = scalar(&tris, &ray, prior);
-            assert_eq!(
-                bits(scalar(&reversed, &ray, prior)).0,
-                bits(want).0,
-                "{tris:?}, {ray:?}"
-            );
-            assert_eq!(
-                bits(block::<F>(&tris, &ray, prior)),
-                bits(want),
-                "{tris:?}, {ray:?}, {prior:?}"
-            );
-            assert_eq!(
-                bits(block::<F>(&reversed, &ray, prior)),
-                bits(want),
-                "{tris:?}, {ray:?}, {prior:?}"
-            );
-        }
-    }
-    // A run that never hits, or always does, proves nothing.
-    let rate = lane_hits as f64 / lane_tests as f64;
-    assert!(
-        (0.05..0.95).contains(&rate),
-        "hit rate {rate} is too extreme to be a test"
-    );
+    };
+    *t.projected()
 }
 
 #[test]
 fn block_of_four_agrees_with_the_scalar_kernel() {
-    agrees_with_scalar::<f32x4>(1);
+    assert_block_agrees::<Triangles, f32x4>(1, random_triangle);
 }
 
 #[test]
 fn block_of_eight_agrees_with_the_scalar_kernel() {
-    agrees_with_scalar::<f32x8>(2);
+    assert_block_agrees::<Triangles, f32x8>(2, random_triangle);
 }
 
 /// A block lane's packet kernel is the packet kernel of the triangle in it.
 #[test]
 fn block_lanes_run_the_triangle_packet_kernel() {
-    let mut rng = Rng::new(3);
-    for _ in 0..20_000 {
-        let tris: Vec<(ProjectedTriangle, u32)> = (0..4)
-            .map(|_| (*random_triangle(&mut rng).projected(), rng.below(20)))
-            .collect();
-        let used = 1 + rng.below(4) as usize;
-        let blk = ProjectedTriangles::<f32x4>::new(&tris[..used]);
-        let rays: Vec<Ray> = (0..8)
-            .map(|_| random_ray(&mut rng, Vec3::splat(-0.5), Vec3::splat(0.5)))
-            .collect();
-        let packet = RayPacket::<f32x8>::from_rays_masked(&rays, rng.next_u32());
-        for (lane, (tri, id)) in tris.iter().enumerate() {
-            let (mut want, mut got) = (HitPacket::none(&packet), HitPacket::none(&packet));
-            tri.intersect_packet(&packet, *id, &mut want);
-            blk.intersect_packet(lane, &packet, &mut got);
-            for r in 0..8 {
-                let expected = if lane < used {
-                    want.hit(r)
-                } else {
-                    HitPacket::none(&packet).hit(r)
-                };
-                assert_eq!(got.hit(r), expected, "lane {lane}, ray {r}");
-            }
-        }
-    }
+    assert_block_lanes_run_the_packet_kernel::<Triangles>(3, random_triangle);
 }
 
 fn tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> ProjectedTriangle {
@@ -171,9 +87,7 @@ fn ray(origin: [f32; 3], dir: [f32; 3]) -> Ray {
 
 /// Both kernels on `tris`, checked equal; the block's record.
 fn both(tris: &[(ProjectedTriangle, u32)], ray: &Ray, prior: Hit) -> Hit {
-    let want = scalar(tris, ray, prior);
-    assert_eq!(bits(block::<f32x4>(tris, ray, prior)), bits(want), "{ray:?}");
-    want.0
+    common::block::both::<Triangles>(tris, ray, prior)
 }
 
 #[test]

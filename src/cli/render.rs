@@ -57,7 +57,9 @@ pub struct Args {
     pub size: Option<(u32, u32)>,
     /// Put a heat map beside the image: `time`, the CPU time per pixel of each
     /// tile (`--heatmap` alone), or `cost`, each pixel's traversal cost (node
-    /// visits + primitive tests of all its rays).
+    /// visits + primitive tests of all its rays). Written before the scene,
+    /// it needs its kind (`--heatmap time scene.nff`): a bare `--heatmap`
+    /// would take the scene's path for one.
     #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "time")]
     pub heatmap: Option<HeatMapKind>,
     /// Leave out the caption band (and heat map): the bare render.

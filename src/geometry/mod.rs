@@ -26,7 +26,7 @@ pub use triangle::Triangle;
 use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::SimdFloat;
+use crate::simd::{SimdFloat, SimdU32};
 
 /// Why a primitive cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -80,6 +80,45 @@ pub fn usable_denominator(denom: f32) -> bool {
 #[inline(always)]
 pub fn usable_denominators<F: SimdFloat>(denom: F) -> F {
     denom.ne(F::splat(0.0)) & denom.abs().lt(F::splat(f32::INFINITY))
+}
+
+/// Shapes with their primitive indices, spread over the lanes of a block
+/// kernel's rows (`ProjectedTriangles`, `Spheres`): lane `i` holds shape `i`.
+struct ShapeLanes<'a, T>(&'a [(T, u32)]);
+
+impl<'a, T> ShapeLanes<'a, T> {
+    /// The lanes of `shapes` at width `F`.
+    ///
+    /// # Panics
+    /// If there are more shapes than lanes.
+    fn new<F: SimdFloat>(shapes: &'a [(T, u32)]) -> Self {
+        assert!(
+            shapes.len() <= F::LANES,
+            "{} shapes for {} lanes",
+            shapes.len(),
+            F::LANES
+        );
+        Self(shapes)
+    }
+
+    /// The row of `field`, with `unused` in the lanes past the shapes.
+    fn row<F: SimdFloat>(&self, field: impl Fn(&T) -> f32, unused: f32) -> F::Array {
+        let mut row = F::Array::default();
+        row.as_mut().fill(unused);
+        for (lane, (shape, _)) in row.as_mut().iter_mut().zip(self.0) {
+            *lane = field(shape);
+        }
+        row
+    }
+
+    /// The primitive indices (0 in the lanes past the shapes).
+    fn ids<F: SimdFloat>(&self) -> <F::U32 as SimdU32>::Array {
+        let mut ids = <F::U32 as SimdU32>::Array::default();
+        for (lane, (_, id)) in ids.as_mut().iter_mut().zip(self.0) {
+            *lane = *id;
+        }
+        ids
+    }
 }
 
 /// The kind of a primitive, for statistics and reports.

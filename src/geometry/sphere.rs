@@ -11,14 +11,17 @@
 //! An *inside-only* sphere (NFF's negative radius) shows only its inside: the
 //! kernels always take the far root `b + √(D/4)`, so a ray from outside passes
 //! through the front and sees the back from within, and the normal points inwards.
+//!
+//! Besides the one-sphere kernels, [`Spheres`] holds a few spheres in
+//! structure-of-arrays form for one ray to test at once, as BVH leaves store them.
 
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::Intersect;
+use crate::geometry::{Intersect, ShapeLanes};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::{SimdFloat, V3};
+use crate::simd::{SimdFloat, SimdU32, V3};
 
 /// A sphere. Kernels need unit ray directions. 20 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,20 +93,158 @@ impl Intersect for Sphere {
     /// Packet kernel: [`Sphere::intersect`] on every active lane.
     #[inline]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
-        let oc = rays.origin - V3::splat(self.center);
-        let b = -oc.dot(rays.dir);
-        let l = oc + rays.dir.scale(b);
-        let quarter_disc = F::splat(self.radius * self.radius) - l.dot(l);
-        // Most rays of a packet miss most spheres: skip the roots when none crosses.
-        let crosses = rays.active & quarter_disc.ge(F::splat(0.0));
+        intersect_packet_lane(self, 0, rays, prim, hits);
+    }
+}
+
+/// Where the packet kernel reads a sphere: a [`Sphere`], or one lane of a
+/// [`Spheres`] block, read in place (as the triangle kernels do, to keep the
+/// lane out of a stack copy).
+trait SphereLane {
+    /// Lane `i`'s centre.
+    fn center(&self, i: usize) -> Vec3;
+    /// Lane `i`'s squared radius.
+    fn radius_squared(&self, i: usize) -> f32;
+    /// Whether lane `i`'s sphere shows only its inside.
+    fn inside_only(&self, i: usize) -> bool;
+}
+
+impl SphereLane for Sphere {
+    #[inline(always)]
+    fn center(&self, _: usize) -> Vec3 {
+        self.center
+    }
+
+    #[inline(always)]
+    fn radius_squared(&self, _: usize) -> f32 {
+        self.radius * self.radius
+    }
+
+    #[inline(always)]
+    fn inside_only(&self, _: usize) -> bool {
+        self.inside_only
+    }
+}
+
+/// The packet kernel: the sphere in lane `i` of `sphere` against every active lane of `rays`.
+#[inline(always)]
+fn intersect_packet_lane<F: SimdFloat, S: SphereLane>(
+    sphere: &S,
+    i: usize,
+    rays: &RayPacket<F>,
+    prim: u32,
+    hits: &mut HitPacket<F>,
+) {
+    let oc = rays.origin - V3::splat(sphere.center(i));
+    let b = -oc.dot(rays.dir);
+    let l = oc + rays.dir.scale(b);
+    let quarter_disc = F::splat(sphere.radius_squared(i)) - l.dot(l);
+    // Most rays of a packet miss most spheres: skip the roots when none crosses.
+    let crosses = rays.active & quarter_disc.ge(F::splat(0.0));
+    if crosses.none() {
+        return;
+    }
+    let s = quarter_disc.sqrt();
+    let near = if sphere.inside_only(i) { b + s } else { b - s };
+    let t = near.ge(rays.t_min).select(near, b + s);
+    let mask = hits.accepts(rays, t, prim) & crosses;
+    let zero = F::splat(0.0);
+    hits.record(mask, t, prim, zero, zero);
+}
+
+/// Up to `F::LANES` spheres in structure-of-arrays form, each lane with the
+/// primitive index its hit reports, so one ray tests them all in one SIMD pass
+/// with no branch per sphere (the triangle blocks' layout,
+/// [`ProjectedTriangles`](crate::geometry::triangle::ProjectedTriangles)). A
+/// BVH leaf of spheres stores them this way. With `f32x4`: 6 × 16 = 96 bytes,
+/// padded to 128 so that a block spans exactly two cache lines.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub struct Spheres<F: SimdFloat> {
+    /// Centres, one row per axis, lane by lane.
+    center: [F::Array; 3],
+    /// Squared radii; `-∞` in an unused lane, which no ray crosses.
+    radius_squared: F::Array,
+    /// 1.0 where the sphere shows only its inside, else 0.0.
+    inside_only: F::Array,
+    /// Primitive index each lane's hit reports.
+    ids: <F::U32 as SimdU32>::Array,
+}
+
+impl<F: SimdFloat> Spheres<F> {
+    /// Lanes `0..spheres.len()` hold `spheres` (shape and primitive index), the rest nothing.
+    ///
+    /// # Panics
+    /// If `spheres` has more than `F::LANES` entries.
+    pub fn new(spheres: &[(Sphere, u32)]) -> Self {
+        let lanes = ShapeLanes::new::<F>(spheres);
+        Self {
+            center: [0, 1, 2].map(|k| lanes.row::<F>(|s| s.center[k], 0.0)),
+            radius_squared: lanes.row::<F>(|s| s.radius_squared(0), f32::NEG_INFINITY),
+            inside_only: lanes.row::<F>(|s| f32::from(u8::from(s.inside_only)), 0.0),
+            ids: lanes.ids::<F>(),
+        }
+    }
+
+    /// Primitive index of lane `i`'s sphere.
+    #[inline(always)]
+    pub fn id(&self, i: usize) -> u32 {
+        self.ids.as_ref()[i]
+    }
+
+    /// The packet kernel of lane `i`'s sphere (an unused lane is never hit).
+    #[inline(always)]
+    pub fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
+        intersect_packet_lane(self, i, rays, self.id(i), hits);
+    }
+
+    /// One ray against every lane (the scalar kernel's arithmetic, lane by
+    /// lane, so each lane's t is bit for bit the scalar one): records in `hit`
+    /// what the scalar kernel run over the lanes in any order would, and
+    /// returns true if any lane's hit was recorded.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
+        let [cx, cy, cz] = self.center.map(F::from_array);
+        let [ox, oy, oz] = ray.origin.to_array().map(F::splat);
+        let [dx, dy, dz] = ray.dir.to_array().map(F::splat);
+        // The scalar kernel's steps, in its order of operations (glam's dot: x, y, then z).
+        let (ocx, ocy, ocz) = (ox - cx, oy - cy, oz - cz);
+        let b = -(ocx * dx + ocy * dy + ocz * dz);
+        let (lx, ly, lz) = (ocx + b * dx, ocy + b * dy, ocz + b * dz);
+        let quarter_disc = F::from_array(self.radius_squared) - (lx * lx + ly * ly + lz * lz);
+        let crosses = quarter_disc.ge(F::splat(0.0));
         if crosses.none() {
-            return;
+            return false;
         }
         let s = quarter_disc.sqrt();
-        let near = if self.inside_only { b + s } else { b - s };
-        let t = near.ge(rays.t_min).select(near, b + s);
-        let mask = hits.accepts(rays, t, prim) & crosses;
+        let inside_only = F::from_array(self.inside_only).ne(F::splat(0.0));
+        let near = inside_only.select(b + s, b - s);
+        let t_min = F::splat(ray.t_min);
+        let t = near.ge(t_min).select(near, b + s);
+        // Lanes hit within [t_min, hit.t]; the record's own rule settles among them.
+        let candidates = crosses & t.ge(t_min) & t.le(F::splat(hit.t));
         let zero = F::splat(0.0);
-        hits.record(mask, t, prim, zero, zero);
+        hit.record_nearest_lane(candidates.bitmask(), t, zero, zero, self.ids.as_ref(), ray.t_min)
+    }
+}
+
+impl<F: SimdFloat> SphereLane for Spheres<F> {
+    #[inline(always)]
+    fn center(&self, i: usize) -> Vec3 {
+        Vec3::new(
+            self.center[0].as_ref()[i],
+            self.center[1].as_ref()[i],
+            self.center[2].as_ref()[i],
+        )
+    }
+
+    #[inline(always)]
+    fn radius_squared(&self, i: usize) -> f32 {
+        self.radius_squared.as_ref()[i]
+    }
+
+    #[inline(always)]
+    fn inside_only(&self, i: usize) -> bool {
+        self.inside_only.as_ref()[i] != 0.0
     }
 }

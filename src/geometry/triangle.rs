@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::{Intersect, usable_denominator, usable_denominators};
+use crate::geometry::{Intersect, ShapeLanes, usable_denominator, usable_denominators};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, SimdU32};
@@ -339,28 +339,11 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
     /// # Panics
     /// If `tris` has more than `F::LANES` entries.
     pub fn new(tris: &[(ProjectedTriangle, u32)]) -> Self {
-        assert!(
-            tris.len() <= F::LANES,
-            "{} triangles for {} lanes",
-            tris.len(),
-            F::LANES
-        );
-        let lanes = |field: &dyn Fn(&ProjectedTriangle) -> f32, unused: f32| {
-            let mut a = F::Array::default();
-            a.as_mut().fill(unused);
-            for (lane, (t, _)) in a.as_mut().iter_mut().zip(tris) {
-                *lane = field(t);
-            }
-            a
-        };
-        let mut ids = <F::U32 as SimdU32>::Array::default();
-        for (lane, (_, id)) in ids.as_mut().iter_mut().zip(tris) {
-            *lane = *id;
-        }
+        let lanes = ShapeLanes::new::<F>(tris);
         Self {
-            k: lanes(&|t| t.k as f32, DEGENERATE as f32),
-            constants: Constant::ALL.map(|c| lanes(&|t| t.constant(0, c), 0.0)),
-            ids,
+            k: lanes.row::<F>(|t| t.k as f32, DEGENERATE as f32),
+            constants: Constant::ALL.map(|c| lanes.row::<F>(|t| t.constant(0, c), 0.0)),
+            ids: lanes.ids::<F>(),
         }
     }
 
@@ -410,22 +393,7 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
             & beta.ge(low)
             & gamma.ge(low)
             & (beta + gamma).le(F::splat(1.0 + EDGE_EPSILON));
-        let mut lanes = candidates.bitmask();
-        if lanes == 0 {
-            return false;
-        }
-        let (t, beta, gamma) = (t.to_array(), beta.to_array(), gamma.to_array());
-        let mut recorded = false;
-        while lanes != 0 {
-            let i = lanes.trailing_zeros() as usize;
-            lanes &= lanes - 1;
-            let (t, id) = (t.as_ref()[i], self.ids.as_ref()[i]);
-            if hit.accepts(t, ray.t_min, id) {
-                hit.record(t, id, beta.as_ref()[i], gamma.as_ref()[i]);
-                recorded = true;
-            }
-        }
-        recorded
+        hit.record_nearest_lane(candidates.bitmask(), t, beta, gamma, self.ids.as_ref(), ray.t_min)
     }
 }
 

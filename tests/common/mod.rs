@@ -2,6 +2,8 @@
 //! comparison of a shape's packet kernel with its scalar kernel, and scene comparisons.
 #![allow(dead_code)]
 
+pub mod block;
+
 use glam::Vec3;
 use raypack::bounds::Aabb;
 use raypack::geometry::{Intersect, Primitive};

@@ -1,13 +1,15 @@
 //! What a BVH leaf stores. A leaf of triangles only (what meshes are made of)
-//! holds them in [`TriangleBlock`]s of four, which a single ray tests at once
-//! ([`ProjectedTriangles`]); any other leaf holds a run of [`LeafPrim`]s: the
-//! kernel's data inline for spheres and triangles, a reference to a full
-//! [`Primitive`] for the rest, and the input index hits report. A leaf node's
-//! `first` and count word say which ([`LeafRef`]).
+//! holds them in [`TriangleBlock`]s of four, and a leaf of spheres only in
+//! [`SphereBlock`]s of four, which a single ray tests at once
+//! ([`ProjectedTriangles`], [`Spheres`]); any other leaf holds a run of
+//! [`LeafPrim`]s: the kernel's data inline for spheres and triangles, a
+//! reference to a full [`Primitive`] for the rest, and the input index hits
+//! report. A leaf node's `first` and count word say which ([`LeafRef`]).
 //!
 //! Blocks take the branches out of the leaf: tested one by one, tiny triangles
 //! hit or miss in no pattern a branch predictor learns, and on a 10⁶-triangle
-//! mesh that cost single rays a quarter of their time.
+//! mesh that cost single rays a quarter of their time; spheres in a dense
+//! cloud behave alike.
 //!
 //! A [`Primitive`] is 88 bytes (the largest variant, a triangle with its
 //! vertices); a leaf of three triangles stored that way spans five cache lines.
@@ -19,6 +21,8 @@
 
 use std::ops::Range;
 
+use crate::accel::stats::Counter;
+use crate::geometry::sphere::Spheres;
 use crate::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
 use crate::geometry::{Intersect, Primitive, Sphere};
 use crate::packet::{HitPacket, RayPacket};
@@ -28,14 +32,82 @@ use crate::simd::SimdFloat;
 /// The lanes of a [`TriangleBlock`].
 pub type BlockLanes = wide::f32x4;
 
-/// Triangles per [`TriangleBlock`].
+/// Primitives per block ([`TriangleBlock`], [`SphereBlock`]).
 pub const BLOCK_SIZE: usize = 4;
 
 /// Up to four of a leaf's triangles, tested by one ray at once. 192 bytes.
 pub type TriangleBlock = ProjectedTriangles<BlockLanes>;
 
+/// Up to four of a leaf's spheres, tested by one ray at once. 128 bytes.
+pub type SphereBlock = Spheres<BlockLanes>;
+
 /// Marks a leaf of [`TriangleBlock`]s in its node's count word.
 const TRIANGLE_BLOCKS: u32 = 1 << 30;
+
+/// Marks a leaf of [`SphereBlock`]s in its node's count word.
+const SPHERE_BLOCKS: u32 = 1 << 29;
+
+/// A block of primitives a single ray tests at once, whose lanes the packet
+/// kernels also read one by one.
+pub trait LeafBlock {
+    /// One ray against every lane: records the nearest hit in `hit`, true if one was recorded.
+    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool;
+    /// The packet kernel of lane `i`.
+    fn intersect_packet<F: SimdFloat>(&self, i: usize, rays: &RayPacket<F>, hits: &mut HitPacket<F>);
+    /// Primitive index of lane `i`.
+    fn id(&self, i: usize) -> u32;
+}
+
+/// Define [`LeafBlock`] for a block type by its inherent kernels.
+macro_rules! leaf_block {
+    ($block:ty) => {
+        impl LeafBlock for $block {
+            #[inline(always)]
+            fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
+                <$block>::intersect(self, ray, hit)
+            }
+            #[inline(always)]
+            fn intersect_packet<F: SimdFloat>(&self, i: usize, rays: &RayPacket<F>, hits: &mut HitPacket<F>) {
+                <$block>::intersect_packet(self, i, rays, hits)
+            }
+            #[inline(always)]
+            fn id(&self, i: usize) -> u32 {
+                <$block>::id(self, i)
+            }
+        }
+    };
+}
+leaf_block!(TriangleBlock);
+leaf_block!(SphereBlock);
+
+/// The first `count` lanes of `blocks` (every block full but the last), as (block, lane).
+#[inline(always)]
+pub fn block_lanes<B>(blocks: &[B], count: usize) -> impl Iterator<Item = (&B, usize)> {
+    (0..count).map(move |lane| (&blocks[lane / BLOCK_SIZE], lane % BLOCK_SIZE))
+}
+
+/// Test `ray` against the first `count` primitives of `blocks` (every block
+/// full but the last), counting each as a primitive test; true if a hit was
+/// recorded. `any_hit` stops at the first block that records one.
+#[inline(always)]
+pub fn intersect_blocks<B: LeafBlock, S: Counter>(
+    blocks: &[B],
+    count: usize,
+    ray: &Ray,
+    hit: &mut Hit,
+    any_hit: bool,
+    stats: &mut S,
+) -> bool {
+    let mut recorded = false;
+    for (i, block) in blocks.iter().enumerate() {
+        (0..(count - i * BLOCK_SIZE).min(BLOCK_SIZE)).for_each(|_| stats.prim());
+        recorded |= block.intersect(ray, hit);
+        if recorded && any_hit {
+            break;
+        }
+    }
+    recorded
+}
 
 /// What a leaf holds: decoded from its node's `first` and count word, which
 /// the binary and the wide tree encode alike.
@@ -51,20 +123,27 @@ pub enum LeafRef {
         /// Triangles in them.
         count: usize,
     },
+    /// Positions in the BVH's [`SphereBlock`] list, holding `count` spheres
+    /// (every block full but the last).
+    Spheres {
+        /// The blocks.
+        blocks: Range<usize>,
+        /// Spheres in them.
+        count: usize,
+    },
 }
 
 impl LeafRef {
     /// Decode a leaf node's `first` and count word.
     #[inline(always)]
     pub fn decode(first: u32, word: u32) -> Self {
-        let (first, count) = (first as usize, (word & !TRIANGLE_BLOCKS) as usize);
-        if word & TRIANGLE_BLOCKS == 0 {
-            LeafRef::Prims(first..first + count)
-        } else {
-            LeafRef::Triangles {
-                blocks: first..first + count.div_ceil(BLOCK_SIZE),
-                count,
-            }
+        let kind = word & (TRIANGLE_BLOCKS | SPHERE_BLOCKS);
+        let (first, count) = (first as usize, (word & !kind) as usize);
+        let blocks = first..first + count.div_ceil(BLOCK_SIZE);
+        match kind {
+            TRIANGLE_BLOCKS => LeafRef::Triangles { blocks, count },
+            SPHERE_BLOCKS => LeafRef::Spheres { blocks, count },
+            _ => LeafRef::Prims(first..first + count),
         }
     }
 
@@ -73,6 +152,7 @@ impl LeafRef {
         match self {
             LeafRef::Prims(range) => (range.start as u32, range.len() as u32),
             LeafRef::Triangles { blocks, count } => (blocks.start as u32, *count as u32 | TRIANGLE_BLOCKS),
+            LeafRef::Spheres { blocks, count } => (blocks.start as u32, *count as u32 | SPHERE_BLOCKS),
         }
     }
 
@@ -81,7 +161,7 @@ impl LeafRef {
     pub fn count(&self) -> usize {
         match self {
             LeafRef::Prims(range) => range.len(),
-            LeafRef::Triangles { count, .. } => *count,
+            LeafRef::Triangles { count, .. } | LeafRef::Spheres { count, .. } => *count,
         }
     }
 }
@@ -93,7 +173,9 @@ pub enum LeafItem<'a> {
     /// A record.
     Record(&'a LeafPrim),
     /// Lane `.1` of a triangle block.
-    BlockLane(&'a TriangleBlock, usize),
+    TriangleLane(&'a TriangleBlock, usize),
+    /// Lane `.1` of a sphere block.
+    SphereLane(&'a SphereBlock, usize),
 }
 
 impl LeafItem<'_> {
@@ -101,7 +183,8 @@ impl LeafItem<'_> {
     pub fn id(self) -> u32 {
         match self {
             LeafItem::Record(p) => p.id,
-            LeafItem::BlockLane(block, lane) => block.id(lane),
+            LeafItem::TriangleLane(block, lane) => block.id(lane),
+            LeafItem::SphereLane(block, lane) => block.id(lane),
         }
     }
 
@@ -115,7 +198,8 @@ impl LeafItem<'_> {
     ) {
         match self {
             LeafItem::Record(p) => p.intersect_packet(others, rays, hits),
-            LeafItem::BlockLane(block, lane) => block.intersect_packet(lane, rays, hits),
+            LeafItem::TriangleLane(block, lane) => block.intersect_packet(lane, rays, hits),
+            LeafItem::SphereLane(block, lane) => block.intersect_packet(lane, rays, hits),
         }
     }
 }
@@ -163,6 +247,14 @@ impl LeafPrim {
         }
     }
 
+    /// The sphere and index, for a [`SphereBlock`]; None for other shapes.
+    pub fn sphere_lane(&self) -> Option<(Sphere, u32)> {
+        match self.shape {
+            LeafShape::Sphere(s) => Some((s, self.id)),
+            _ => None,
+        }
+    }
+
     /// Index in the input slice.
     pub fn id(&self) -> u32 {
         self.id
@@ -202,9 +294,10 @@ mod tests {
     use crate::geometry::{Cone, Triangle};
 
     #[test]
-    fn record_is_48_bytes_and_block_192() {
+    fn record_is_48_bytes_and_blocks_192_and_128() {
         assert_eq!(size_of::<LeafPrim>(), 48);
         assert_eq!(size_of::<TriangleBlock>(), 192);
+        assert_eq!(size_of::<SphereBlock>(), 128);
     }
 
     #[test]
@@ -223,6 +316,14 @@ mod tests {
             LeafRef::Triangles {
                 blocks: 12..14,
                 count: 5,
+            },
+            LeafRef::Spheres {
+                blocks: 0..1,
+                count: 1,
+            },
+            LeafRef::Spheres {
+                blocks: 9..11,
+                count: 8,
             },
         ] {
             let (first, word) = leaf.encode();

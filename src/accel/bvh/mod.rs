@@ -57,7 +57,9 @@ use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
-use leaf::{BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, TriangleBlock};
+use leaf::{
+    BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, SphereBlock, TriangleBlock, block_lanes, intersect_blocks,
+};
 use node::{Node, NodeId, NodePair, ROOT};
 
 /// A BVH (binary nodes for packets, wide nodes for single rays) owning a
@@ -74,7 +76,9 @@ pub struct Bvh {
     /// is a contiguous run).
     prims: Vec<LeafPrim>,
     /// The triangles of all-triangle leaves, in leaf order (a leaf is a contiguous run).
-    blocks: Vec<TriangleBlock>,
+    triangle_blocks: Vec<TriangleBlock>,
+    /// The spheres of all-sphere leaves, in leaf order (a leaf is a contiguous run).
+    sphere_blocks: Vec<SphereBlock>,
     /// Primitives in the tree.
     bounded: usize,
     /// The primitives `prims` refers to rather than holds (see [`leaf`]).
@@ -140,9 +144,11 @@ impl Bvh {
             let built = build_sah::build(&boxes, options);
             (built.pairs, built.order)
         };
-        // Store each leaf's primitives, in build order: as triangle blocks if
-        // they are all triangles, else as records; the leaf nodes then point there.
-        let (mut leaf_prims, mut blocks, mut others) = (Vec::new(), Vec::new(), Vec::new());
+        // Store each leaf's primitives, in build order: as triangle or sphere
+        // blocks if they are all triangles or all spheres, else as records; the
+        // leaf nodes then point there.
+        let (mut leaf_prims, mut others) = (Vec::new(), Vec::new());
+        let (mut triangle_blocks, mut sphere_blocks) = (Vec::new(), Vec::new());
         let mut leaves: Vec<&mut Node> = pairs
             .iter_mut()
             .flat_map(|pair| &mut pair.0)
@@ -161,16 +167,26 @@ impl Bvh {
                 })
                 .collect();
             let triangles: Option<Vec<_>> = records.iter().map(LeafPrim::triangle_lane).collect();
-            let leaf = match triangles {
-                Some(triangles) => {
-                    let at = blocks.len();
-                    blocks.extend(triangles.chunks(BLOCK_SIZE).map(TriangleBlock::new));
+            let spheres: Option<Vec<_>> = records.iter().map(LeafPrim::sphere_lane).collect();
+            let count = records.len();
+            let leaf = match (triangles, spheres) {
+                (Some(triangles), _) => {
+                    let at = triangle_blocks.len();
+                    triangle_blocks.extend(triangles.chunks(BLOCK_SIZE).map(TriangleBlock::new));
                     LeafRef::Triangles {
-                        blocks: at..blocks.len(),
-                        count: records.len(),
+                        blocks: at..triangle_blocks.len(),
+                        count,
                     }
                 }
-                None => {
+                (None, Some(spheres)) => {
+                    let at = sphere_blocks.len();
+                    sphere_blocks.extend(spheres.chunks(BLOCK_SIZE).map(SphereBlock::new));
+                    LeafRef::Spheres {
+                        blocks: at..sphere_blocks.len(),
+                        count,
+                    }
+                }
+                (None, None) => {
                     let at = leaf_prims.len();
                     leaf_prims.extend(records);
                     LeafRef::Prims(at..leaf_prims.len())
@@ -183,7 +199,8 @@ impl Bvh {
             wide: Vec::new(),
             wide_twin: Vec::new(),
             prims: leaf_prims,
-            blocks,
+            triangle_blocks,
+            sphere_blocks,
             bounded: order.len(),
             others,
             unbounded,
@@ -239,18 +256,15 @@ impl Bvh {
         any_hit: bool,
         stats: &mut S,
     ) -> bool {
-        let mut recorded = false;
         match leaf {
             LeafRef::Triangles { blocks, count } => {
-                for (i, block) in self.blocks[blocks].iter().enumerate() {
-                    (0..(count - i * BLOCK_SIZE).min(BLOCK_SIZE)).for_each(|_| stats.prim());
-                    recorded |= block.intersect(ray, hit);
-                    if recorded && any_hit {
-                        break;
-                    }
-                }
+                intersect_blocks(&self.triangle_blocks[blocks], count, ray, hit, any_hit, stats)
+            }
+            LeafRef::Spheres { blocks, count } => {
+                intersect_blocks(&self.sphere_blocks[blocks], count, ray, hit, any_hit, stats)
             }
             LeafRef::Prims(range) => {
+                let mut recorded = false;
                 for prim in &self.prims[range] {
                     stats.prim();
                     recorded |= prim.intersect(&self.others, ray, hit);
@@ -258,31 +272,22 @@ impl Bvh {
                         break;
                     }
                 }
+                recorded
             }
         }
-        recorded
     }
 
     /// Call `f` with each primitive of `leaf` in turn until it returns false.
     #[inline(always)]
     pub fn for_each_leaf_prim(&self, leaf: LeafRef, mut f: impl FnMut(LeafItem<'_>) -> bool) {
+        // `all` stops at the first false.
         match leaf {
-            LeafRef::Triangles { blocks, count } => {
-                for lane in 0..count {
-                    let block = &self.blocks[blocks.start + lane / BLOCK_SIZE];
-                    if !f(LeafItem::BlockLane(block, lane % BLOCK_SIZE)) {
-                        return;
-                    }
-                }
-            }
-            LeafRef::Prims(range) => {
-                for prim in &self.prims[range] {
-                    if !f(LeafItem::Record(prim)) {
-                        return;
-                    }
-                }
-            }
-        }
+            LeafRef::Triangles { blocks, count } => block_lanes(&self.triangle_blocks[blocks], count)
+                .all(|(block, lane)| f(LeafItem::TriangleLane(block, lane))),
+            LeafRef::Spheres { blocks, count } => block_lanes(&self.sphere_blocks[blocks], count)
+                .all(|(block, lane)| f(LeafItem::SphereLane(block, lane))),
+            LeafRef::Prims(range) => self.prims[range].iter().all(|prim| f(LeafItem::Record(prim))),
+        };
     }
 
     /// The packet kernel of a leaf's primitive.
@@ -320,7 +325,8 @@ impl Bvh {
                 + self.wide.len() * size_of::<wide::WideNode>()
                 + self.wide_twin.len() * size_of::<u32>()
                 + self.prims.len() * size_of::<LeafPrim>()
-                + self.blocks.len() * size_of::<TriangleBlock>()
+                + self.triangle_blocks.len() * size_of::<TriangleBlock>()
+                + self.sphere_blocks.len() * size_of::<SphereBlock>()
                 + self.others.len() * size_of::<Primitive>(),
         };
         if self.is_empty() {
