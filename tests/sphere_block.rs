@@ -11,7 +11,7 @@ use common::block::{BlockKernel, assert_block_agrees, assert_block_lanes_run_the
 use common::poisoned_rays;
 use glam::Vec3;
 use raypack::geometry::sphere::Spheres;
-use raypack::geometry::{Intersect, Sphere};
+use raypack::geometry::{BlockIntersect, Intersect, Sphere};
 use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;

@@ -82,6 +82,23 @@ pub fn usable_denominators<F: SimdFloat>(denom: F) -> F {
     denom.ne(F::splat(0.0)) & denom.abs().lt(F::splat(f32::INFINITY))
 }
 
+/// Block kernels: one ray against up to `F::LANES` shapes held in
+/// structure-of-arrays lanes ([`triangle::ProjectedTriangles`],
+/// [`sphere::Spheres`], what BVH leaves store), in one SIMD pass with no branch
+/// per shape and each lane bit for bit the scalar kernel; the packet kernels
+/// read single lanes in place.
+pub trait BlockIntersect {
+    /// One ray against every lane: records in `hit` what the scalar kernel run
+    /// over the lanes in any order would; true if any lane's hit was recorded.
+    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool;
+
+    /// The packet kernel of lane `i`'s shape (an unused lane is never hit).
+    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>);
+
+    /// Primitive index of lane `i`'s shape.
+    fn id(&self, i: usize) -> u32;
+}
+
 /// Shapes with their primitive indices, spread over the lanes of a block
 /// kernel's rows (`ProjectedTriangles`, `Spheres`): lane `i` holds shape `i`.
 struct ShapeLanes<'a, T>(&'a [(T, u32)]);

@@ -18,7 +18,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::{Intersect, ShapeLanes};
+use crate::geometry::{BlockIntersect, Intersect, ShapeLanes};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, SimdU32, V3};
@@ -185,16 +185,18 @@ impl<F: SimdFloat> Spheres<F> {
             ids: lanes.ids::<F>(),
         }
     }
+}
 
+impl<F: SimdFloat> BlockIntersect for Spheres<F> {
     /// Primitive index of lane `i`'s sphere.
     #[inline(always)]
-    pub fn id(&self, i: usize) -> u32 {
+    fn id(&self, i: usize) -> u32 {
         self.ids.as_ref()[i]
     }
 
     /// The packet kernel of lane `i`'s sphere (an unused lane is never hit).
     #[inline(always)]
-    pub fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
+    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
         intersect_packet_lane(self, i, rays, self.id(i), hits);
     }
 
@@ -203,15 +205,14 @@ impl<F: SimdFloat> Spheres<F> {
     /// what the scalar kernel run over the lanes in any order would, and
     /// returns true if any lane's hit was recorded.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
-        let [cx, cy, cz] = self.center.map(F::from_array);
-        let [ox, oy, oz] = ray.origin.to_array().map(F::splat);
-        let [dx, dy, dz] = ray.dir.to_array().map(F::splat);
-        // The scalar kernel's steps, in its order of operations (glam's dot: x, y, then z).
-        let (ocx, ocy, ocz) = (ox - cx, oy - cy, oz - cz);
-        let b = -(ocx * dx + ocy * dy + ocz * dz);
-        let (lx, ly, lz) = (ocx + b * dx, ocy + b * dy, ocz + b * dz);
-        let quarter_disc = F::from_array(self.radius_squared) - (lx * lx + ly * ly + lz * lz);
+    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
+        let [x, y, z] = self.center.map(F::from_array);
+        let dir = V3::splat(ray.dir);
+        // The scalar kernel's steps, in its order of operations (dots sum x, y, then z, as glam's).
+        let oc = V3::splat(ray.origin) - V3 { x, y, z };
+        let b = -oc.dot(dir);
+        let l = oc + dir.scale(b);
+        let quarter_disc = F::from_array(self.radius_squared) - l.dot(l);
         let crosses = quarter_disc.ge(F::splat(0.0));
         if crosses.none() {
             return false;

@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::{Intersect, ShapeLanes, usable_denominator, usable_denominators};
+use crate::geometry::{BlockIntersect, Intersect, ShapeLanes, usable_denominator, usable_denominators};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, SimdU32};
@@ -346,16 +346,18 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
             ids: lanes.ids::<F>(),
         }
     }
+}
 
+impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
     /// Primitive index of lane `i`'s triangle.
     #[inline(always)]
-    pub fn id(&self, i: usize) -> u32 {
+    fn id(&self, i: usize) -> u32 {
         self.ids.as_ref()[i]
     }
 
     /// The packet kernel of lane `i`'s triangle (an unused lane is never hit).
     #[inline(always)]
-    pub fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
+    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
         intersect_packet_lane(self, i, rays, self.id(i), hits);
     }
 
@@ -364,7 +366,7 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
     /// in `hit` what the scalar kernel run over the lanes in any order would,
     /// and returns true if any lane's hit was recorded.
     #[inline]
-    pub fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
+    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
         let k = F::from_array(self.k);
         // The rows, in `Constant` order.
         let [n_u, n_v, n_d, a_u, a_v, b_nu, b_nv, c_nu, c_nv] = self.constants.map(F::from_array);

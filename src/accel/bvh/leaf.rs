@@ -24,12 +24,12 @@ use std::ops::Range;
 use crate::accel::stats::Counter;
 use crate::geometry::sphere::Spheres;
 use crate::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
-use crate::geometry::{Intersect, Primitive, Sphere};
+use crate::geometry::{BlockIntersect, Intersect, Primitive, Sphere};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
 
-/// The lanes of a [`TriangleBlock`].
+/// The lanes of a [`TriangleBlock`] or [`SphereBlock`].
 pub type BlockLanes = wide::f32x4;
 
 /// Primitives per block ([`TriangleBlock`], [`SphereBlock`]).
@@ -47,39 +47,6 @@ const TRIANGLE_BLOCKS: u32 = 1 << 30;
 /// Marks a leaf of [`SphereBlock`]s in its node's count word.
 const SPHERE_BLOCKS: u32 = 1 << 29;
 
-/// A block of primitives a single ray tests at once, whose lanes the packet
-/// kernels also read one by one.
-pub trait LeafBlock {
-    /// One ray against every lane: records the nearest hit in `hit`, true if one was recorded.
-    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool;
-    /// The packet kernel of lane `i`.
-    fn intersect_packet<F: SimdFloat>(&self, i: usize, rays: &RayPacket<F>, hits: &mut HitPacket<F>);
-    /// Primitive index of lane `i`.
-    fn id(&self, i: usize) -> u32;
-}
-
-/// Define [`LeafBlock`] for a block type by its inherent kernels.
-macro_rules! leaf_block {
-    ($block:ty) => {
-        impl LeafBlock for $block {
-            #[inline(always)]
-            fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
-                <$block>::intersect(self, ray, hit)
-            }
-            #[inline(always)]
-            fn intersect_packet<F: SimdFloat>(&self, i: usize, rays: &RayPacket<F>, hits: &mut HitPacket<F>) {
-                <$block>::intersect_packet(self, i, rays, hits)
-            }
-            #[inline(always)]
-            fn id(&self, i: usize) -> u32 {
-                <$block>::id(self, i)
-            }
-        }
-    };
-}
-leaf_block!(TriangleBlock);
-leaf_block!(SphereBlock);
-
 /// The first `count` lanes of `blocks` (every block full but the last), as (block, lane).
 #[inline(always)]
 pub fn block_lanes<B>(blocks: &[B], count: usize) -> impl Iterator<Item = (&B, usize)> {
@@ -90,7 +57,7 @@ pub fn block_lanes<B>(blocks: &[B], count: usize) -> impl Iterator<Item = (&B, u
 /// full but the last), counting each as a primitive test; true if a hit was
 /// recorded. `any_hit` stops at the first block that records one.
 #[inline(always)]
-pub fn intersect_blocks<B: LeafBlock, S: Counter>(
+pub fn intersect_blocks<B: BlockIntersect, S: Counter>(
     blocks: &[B],
     count: usize,
     ray: &Ray,

@@ -7,8 +7,8 @@
 //! ([`traverse_single`], one SIMD test per node), and so do the packet lanes
 //! left alone deep in the tree;
 //! shadow rays use either ([`occlusion`]). Leaves call the primitives' own
-//! kernels; a leaf of triangles holds them in a block a single ray tests at
-//! once ([`leaf`]).
+//! kernels; a leaf of triangles or of spheres holds them in a block a single
+//! ray tests at once ([`leaf`]).
 //!
 //! Primitives without a finite box (infinite planes, and anything whose box
 //! overflows) are kept outside the tree and tested directly by every ray;
@@ -72,8 +72,8 @@ pub struct Bvh {
     wide: Vec<wide::WideNode>,
     /// Per binary node, the wide node made from it (see [`wide::Collapsed::twin`]).
     wide_twin: Vec<u32>,
-    /// The records of leaves that are not all triangles, in leaf order (a leaf
-    /// is a contiguous run).
+    /// The records of leaves that are neither all triangles nor all spheres,
+    /// in leaf order (a leaf is a contiguous run).
     prims: Vec<LeafPrim>,
     /// The triangles of all-triangle leaves, in leaf order (a leaf is a contiguous run).
     triangle_blocks: Vec<TriangleBlock>,
