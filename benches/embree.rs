@@ -8,8 +8,9 @@
 //!
 //! Primary rays through pixel centres in 4×2-pixel packets. Embree: device
 //! `threads=1,isa=avx2` (its 8-wide AVX2 kernels, like raypack's f32x8 packets),
-//! default (fast) scene flags. raypack: brute force until the BVH lands, so the
-//! scenes are small. `RAYPACK_BENCH_SIZE` sets the image side (default 256).
+//! default (fast) scene flags. raypack: its BVH. `RAYPACK_BENCH_SIZE` sets the
+//! image side (default 256). Growth with scene size, primary and random rays,
+//! is `raypack bench traversal --engine raypack,embree`.
 //!
 //! Run: `cargo bench --features embree --bench embree`.
 
@@ -18,7 +19,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput};
-use raypack::accel::{Accel, BruteForce};
+use raypack::accel::{Accel, Bvh};
 use raypack::compare::test_scenes;
 use raypack::compare::{Kernel, primary_rays_in_blocks, trace_rays};
 use raypack::embree::{DEFAULT_CONFIG, Device, EmbreeScene, flush_denormals};
@@ -52,7 +53,7 @@ fn rays_of(scene: &Scene, size: u32) -> Vec<Ray> {
 /// The bench scenes: a sphereflake, a closed triangle mesh, and the mixed scene
 /// (triangles, spheres, polygons, instances, a mesh, planes as user geometry).
 fn scenes() -> Vec<Scene> {
-    [("sphereflake", 820), ("mesh", 2000), ("mixed", 600)]
+    [("sphereflake", 7381), ("mesh", 100_000), ("mixed", 5000)]
         .into_iter()
         .map(|(name, n)| test_scenes::by_name(name, n, 1).expect("generated scene"))
         .collect()
@@ -61,7 +62,7 @@ fn scenes() -> Vec<Scene> {
 fn side_by_side(size: u32) {
     let device = Arc::new(Device::new(DEFAULT_CONFIG).expect("Embree device"));
     println!(
-        "raypack (brute force) vs Embree {} (\"{}\", fast mode): primary rays {size}x{size}, 4x2 packets, \
+        "raypack (BVH) vs Embree {} (\"{}\", fast mode): primary rays {size}x{size}, 4x2 packets, \
          best of 5, Mrays/s",
         device.version_string(),
         device.config()
@@ -78,7 +79,7 @@ fn side_by_side(size: u32) {
         "packet ratio"
     );
     for scene in scenes() {
-        let raypack = BruteForce::new(&scene.primitives);
+        let raypack = Bvh::new(&scene.primitives);
         let embree = EmbreeScene::new(device.clone(), &scene.primitives).expect("Embree scene");
         let rays = rays_of(&scene, size);
         for threads in [1, 2] {
@@ -125,8 +126,8 @@ fn side_by_side(size: u32) {
 
 fn criterion_group(c: &mut Criterion, size: u32) {
     let device = Arc::new(Device::new(DEFAULT_CONFIG).expect("Embree device"));
-    let scene = test_scenes::by_name("mixed", 600, 1).expect("generated scene");
-    let raypack = BruteForce::new(&scene.primitives);
+    let scene = test_scenes::by_name("mixed", 5000, 1).expect("generated scene");
+    let raypack = Bvh::new(&scene.primitives);
     let embree = EmbreeScene::new(device, &scene.primitives).expect("Embree scene");
     let rays = rays_of(&scene, size);
     let pool = pool(1);

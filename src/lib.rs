@@ -6,6 +6,9 @@
 //! lecture in `shared/reference/LECTURE.md`: the camera ([`camera`]), planes,
 //! triangles, polygons, spheres and transformed objects ([`geometry`]).
 
+// Every public item says what it is (docs are part of the API).
+#![warn(missing_docs)]
+
 pub mod accel;
 pub mod bench;
 pub mod bounds;

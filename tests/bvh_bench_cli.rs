@@ -30,6 +30,7 @@ fn traversal_bench_reports_json_rows() {
     assert_eq!(rows.len(), 2);
     for row in rows {
         assert!(row["scene"].as_str().unwrap().starts_with("mesh-"));
+        assert_eq!(row["engine"], "raypack");
         assert!(row["primitives"].as_u64().unwrap() > 100);
         for key in [
             "primary_single_mrays",
@@ -79,14 +80,33 @@ fn traversal_bench_prints_growth_from_the_first_scene() {
     let growth: Vec<&str> = text.lines().filter(|l| l.starts_with("time per ray, ")).collect();
     assert_eq!(growth.len(), 2, "{text}");
     assert!(
-        growth[0].starts_with("time per ray, mesh-200 -> mesh-400 (1t"),
+        growth[0].starts_with("time per ray, raypack, mesh-200 -> mesh-400 (1t"),
         "{text}"
     );
     assert!(
-        growth[1].starts_with("time per ray, mesh-200 -> mesh-800 (1t"),
+        growth[1].starts_with("time per ray, raypack, mesh-200 -> mesh-800 (1t"),
         "{text}"
     );
     assert!(growth[1].contains("primary single ") && growth[1].contains("random single "));
+}
+
+/// Without the `embree` feature, asking for Embree is the user's error, said
+/// before any scene is generated.
+#[cfg(not(feature = "embree"))]
+#[test]
+fn embree_engine_without_the_feature_exits_with_code_2() {
+    let out = raypack(&[
+        "bench",
+        "traversal",
+        "--engine",
+        "raypack,embree",
+        "--sizes",
+        "200",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("without the `embree` feature"), "{err}");
+    assert!(out.stdout.is_empty());
 }
 
 #[test]

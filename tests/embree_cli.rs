@@ -172,3 +172,70 @@ fn render_and_bench_scene_run_through_embree() {
     assert!(rows.iter().any(|r| r["vs_embree"].as_f64().is_some()));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn bench_traversal_measures_both_engines_with_their_own_growth() {
+    let args = [
+        "bench",
+        "traversal",
+        "--sizes",
+        "200,400",
+        "--width",
+        "32",
+        "--height",
+        "16",
+        "--random",
+        "256",
+        "--rounds",
+        "1",
+        "--engine",
+        "raypack,embree",
+    ];
+    let o = raypack().args(args).arg("--json").output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = rows.as_array().unwrap();
+    // Scene by scene, engine by engine.
+    let order: Vec<(&str, &str)> = rows
+        .iter()
+        .map(|r| (r["scene"].as_str().unwrap(), r["engine"].as_str().unwrap()))
+        .collect();
+    assert_eq!(
+        order,
+        [
+            ("mesh-200", "raypack"),
+            ("mesh-200", "embree"),
+            ("mesh-400", "raypack"),
+            ("mesh-400", "embree"),
+        ]
+    );
+    for row in rows {
+        assert!(row["random_packet_mrays"].as_f64().unwrap() > 0.0);
+        assert!(row["build_s"].as_f64().unwrap() > 0.0);
+        // Embree cannot count its traversal work: no counts rather than zeros.
+        let counted = row["engine"] == "raypack";
+        assert_eq!(!row["primary_packet_stats"].is_null(), counted, "{row}");
+    }
+    // Each engine's growth is measured from its own first scene.
+    assert_eq!(rows[0]["growth_vs_first"]["primary_single"], 1.0);
+    assert_eq!(rows[1]["growth_vs_first"]["primary_single"], 1.0);
+    let embree_from_rates =
+        rows[1]["random_single_mrays"].as_f64().unwrap() / rows[3]["random_single_mrays"].as_f64().unwrap();
+    let g = rows[3]["growth_vs_first"]["random_single"].as_f64().unwrap();
+    assert!(
+        (g / embree_from_rates - 1.0).abs() < 1e-9,
+        "{g} vs {embree_from_rates}"
+    );
+
+    let o = raypack().args(args).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8(o.stdout).unwrap();
+    for start in [
+        "time per ray, raypack, mesh-200 -> mesh-400 (1t",
+        "time per ray, embree, mesh-200 -> mesh-400 (1t",
+        "raypack / Embree Mrays/s, mesh-200 (1t",
+        "raypack / Embree Mrays/s, mesh-400 (1t",
+    ] {
+        assert!(text.lines().any(|l| l.starts_with(start)), "{start}\n{text}");
+    }
+}

@@ -20,6 +20,7 @@ use crate::accel::{Accel, AccelWithStats, Bvh, TraversalStats};
 use crate::bench::scenes;
 use crate::bounds::Aabb;
 use crate::camera::Camera;
+use crate::compare::Engine;
 use crate::geometry::Primitive;
 use crate::packet::RayPacket8;
 use crate::ray::Ray;
@@ -136,6 +137,97 @@ pub fn trace_packets(accel: &impl Accel, packets: &[RayPacket8]) -> u64 {
         .sum()
 }
 
+/// A structure built over a scene whose traversal is timed.
+pub enum Structure {
+    /// raypack's SAH BVH.
+    Raypack(Bvh),
+    /// Embree's BVH, default (fast) scene flags.
+    #[cfg(feature = "embree")]
+    Embree(crate::embree::EmbreeScene),
+}
+
+impl Structure {
+    /// Trace `rays` one by one ([`trace_single`]).
+    fn trace_single(&self, rays: &[Ray]) -> u64 {
+        match self {
+            Self::Raypack(bvh) => trace_single(bvh, rays),
+            #[cfg(feature = "embree")]
+            Self::Embree(scene) => trace_single(scene, rays),
+        }
+    }
+
+    /// Trace `packets` ([`trace_packets`]).
+    fn trace_packets(&self, packets: &[RayPacket8]) -> u64 {
+        match self {
+            Self::Raypack(bvh) => trace_packets(bvh, packets),
+            #[cfg(feature = "embree")]
+            Self::Embree(scene) => trace_packets(scene, packets),
+        }
+    }
+}
+
+/// Builds each engine's structure; holds Embree's device when Embree is measured.
+pub struct Builder {
+    engines: Vec<Engine>,
+    #[cfg(feature = "embree")]
+    device: Option<std::sync::Arc<crate::embree::Device>>,
+}
+
+impl Builder {
+    /// A builder for `engines`: Embree's device (on
+    /// [`DEFAULT_EMBREE_CONFIG`](crate::compare::DEFAULT_EMBREE_CONFIG))
+    /// is made here, so a missing feature or a failing device is reported
+    /// before any scene is generated.
+    pub fn new(engines: &[Engine]) -> anyhow::Result<Self> {
+        anyhow::ensure!(!engines.is_empty(), "no engine to measure");
+        let mut distinct = Vec::new();
+        for &engine in engines {
+            if !distinct.contains(&engine) {
+                distinct.push(engine);
+            }
+        }
+        let engines = distinct;
+        let embree = engines.contains(&Engine::Embree);
+        #[cfg(feature = "embree")]
+        {
+            let device = if embree {
+                let device = crate::embree::Device::new(crate::compare::DEFAULT_EMBREE_CONFIG)?;
+                Some(std::sync::Arc::new(device))
+            } else {
+                None
+            };
+            Ok(Self { engines, device })
+        }
+        #[cfg(not(feature = "embree"))]
+        {
+            anyhow::ensure!(!embree, crate::compare::EMBREE_MISSING);
+            Ok(Self { engines })
+        }
+    }
+
+    /// The engines measured, in the order given.
+    pub fn engines(&self) -> &[Engine] {
+        &self.engines
+    }
+
+    /// Build `engine`'s structure over `prims`.
+    pub fn build(&self, engine: Engine, prims: &[Primitive]) -> anyhow::Result<Structure> {
+        match engine {
+            Engine::Raypack => Ok(Structure::Raypack(Bvh::new(prims))),
+            #[cfg(feature = "embree")]
+            Engine::Embree => {
+                let device = self
+                    .device
+                    .clone()
+                    .ok_or_else(|| anyhow::anyhow!("Embree was not among the builder's engines"))?;
+                Ok(Structure::Embree(crate::embree::EmbreeScene::new(device, prims)?))
+            }
+            #[cfg(not(feature = "embree"))]
+            Engine::Embree => anyhow::bail!(crate::compare::EMBREE_MISSING),
+        }
+    }
+}
+
 /// One row of the traversal table.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct TraversalRow {
@@ -143,6 +235,8 @@ pub struct TraversalRow {
     pub scene: String,
     /// Primitives in the scene.
     pub primitives: usize,
+    /// Engine whose structure was traversed.
+    pub engine: Engine,
     /// Threads of the rayon pool.
     pub threads: usize,
     /// Best build time, seconds.
@@ -157,13 +251,14 @@ pub struct TraversalRow {
     pub random_single_mrays: f64,
     /// Random rays, 8-ray packets, Mrays/s.
     pub random_packet_mrays: f64,
-    /// Counts of the primary packet pass.
-    pub primary_packet_stats: TraversalStats,
-    /// Counts of the primary single-ray pass.
-    pub primary_single_stats: TraversalStats,
-    /// Counts of the random packet pass.
-    pub random_packet_stats: TraversalStats,
-    /// Time per ray against the first scene measured alongside (1 for itself).
+    /// Counts of the primary packet pass (raypack only: Embree does not report them).
+    pub primary_packet_stats: Option<TraversalStats>,
+    /// Counts of the primary single-ray pass (raypack only).
+    pub primary_single_stats: Option<TraversalStats>,
+    /// Counts of the random packet pass (raypack only).
+    pub random_packet_stats: Option<TraversalStats>,
+    /// Time per ray against the same engine on the first scene measured
+    /// alongside (1 for itself).
     pub growth_vs_first: Growth,
     /// Timed rounds per variant (best kept).
     pub rounds: usize,
@@ -194,106 +289,142 @@ fn best_time<T>(rounds: usize, mut f: impl FnMut() -> T) -> Duration {
         .unwrap_or_default()
 }
 
-/// Measure `setups` on a rayon pool of `threads`: each build time (best of 3),
-/// then every scene's four traversal variants, interleaved scene by scene and
-/// variant by variant, best of `rounds` after a warm-up round.
-pub fn measure(setups: &[TraversalSetup], threads: usize, rounds: usize) -> Vec<TraversalRow> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("a rayon pool");
+/// A scene and an engine measured on it.
+struct Case<'a> {
+    setup: &'a TraversalSetup,
+    engine: Engine,
+    structure: Structure,
+    /// Best build time.
+    build: Duration,
+    /// Best times of primary single, primary packet, random single, random packet.
+    best: [Duration; 4],
+}
+
+impl Case<'_> {
+    /// Seconds per ray of each variant.
+    fn per_ray(&self) -> [f64; 4] {
+        let (primary, random) = (self.setup.primary.len(), self.setup.random.len());
+        let rays = [primary, primary, random, random];
+        std::array::from_fn(|k| self.best[k].as_secs_f64() / rays[k].max(1) as f64)
+    }
+}
+
+/// Measure every engine of `builder` on `setups` on a rayon pool of `threads`:
+/// each build time (best of 3), then the four traversal variants of every
+/// scene and engine, interleaved scene by scene, engine by engine and variant
+/// by variant, best of `rounds` after a warm-up round. With Embree among the
+/// engines every pool thread sets FTZ/DAZ, so both engines run in that mode.
+pub fn measure(
+    setups: &[TraversalSetup],
+    builder: &Builder,
+    threads: usize,
+    rounds: usize,
+) -> anyhow::Result<Vec<TraversalRow>> {
+    let engines = builder.engines();
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads);
+    #[cfg(feature = "embree")]
+    let pool = if engines.contains(&Engine::Embree) {
+        pool.start_handler(|_| crate::embree::flush_denormals())
+    } else {
+        pool
+    };
+    let pool = pool.build()?;
     pool.install(|| {
-        let builds: Vec<Duration> = setups
-            .iter()
-            .map(|s| best_time(3, || Bvh::new(&s.prims)))
-            .collect();
-        let bvhs: Vec<Bvh> = setups.iter().map(|s| Bvh::new(&s.prims)).collect();
+        // Build each structure three times, keeping the best time and the last structure.
+        let mut cases = Vec::with_capacity(setups.len() * engines.len());
+        for setup in setups {
+            for &engine in engines {
+                let mut build = Duration::MAX;
+                let mut structure = None;
+                for _ in 0..3 {
+                    let start = Instant::now();
+                    let built = builder.build(engine, &setup.prims)?;
+                    build = build.min(start.elapsed());
+                    structure = Some(built);
+                }
+                let structure = structure.expect("three builds");
+                let best = [Duration::MAX; 4];
+                cases.push(Case {
+                    setup,
+                    engine,
+                    structure,
+                    build,
+                    best,
+                });
+            }
+        }
         // Round 0 warms every variant up (caches, page faults) and is not kept.
-        let mut best = vec![[Duration::MAX; 4]; setups.len()];
         for round in 0..=rounds {
-            for ((setup, bvh), best) in setups.iter().zip(&bvhs).zip(&mut best) {
+            for case in &mut cases {
+                let (s, setup) = (&case.structure, case.setup);
                 let times = [
-                    best_time(1, || trace_single(bvh, &setup.primary)),
-                    best_time(1, || trace_packets(bvh, &setup.primary_packets)),
-                    best_time(1, || trace_single(bvh, &setup.random)),
-                    best_time(1, || trace_packets(bvh, &setup.random_packets)),
+                    best_time(1, || s.trace_single(&setup.primary)),
+                    best_time(1, || s.trace_packets(&setup.primary_packets)),
+                    best_time(1, || s.trace_single(&setup.random)),
+                    best_time(1, || s.trace_packets(&setup.random_packets)),
                 ];
                 if round > 0 {
-                    for (b, t) in best.iter_mut().zip(times) {
+                    for (b, t) in case.best.iter_mut().zip(times) {
                         *b = (*b).min(t);
                     }
                 }
             }
         }
-        // Seconds per ray of each variant, for the growth figures.
-        let per_ray = |setup: &TraversalSetup, best: &[Duration; 4]| {
-            let rays = [
-                setup.primary.len(),
-                setup.primary.len(),
-                setup.random.len(),
-                setup.random.len(),
-            ];
-            std::array::from_fn::<f64, 4, _>(|k| best[k].as_secs_f64() / rays[k].max(1) as f64)
-        };
-        let per_ray: Vec<[f64; 4]> = setups.iter().zip(&best).map(|(s, b)| per_ray(s, b)).collect();
-        setups
+        Ok(cases
             .iter()
-            .zip(&bvhs)
-            .zip(builds.iter().zip(&best))
-            .zip(&per_ray)
-            .map(|(((setup, bvh), (build, best)), own)| {
-                let growth = |k: usize| own[k] / per_ray[0][k];
-                row(
-                    setup,
-                    bvh,
-                    threads,
-                    *build,
-                    best,
-                    rounds,
-                    Growth {
-                        primary_single: growth(0),
-                        primary_packet: growth(1),
-                        random_single: growth(2),
-                        random_packet: growth(3),
-                    },
-                )
+            .map(|case| {
+                let first = cases
+                    .iter()
+                    .find(|c| c.engine == case.engine)
+                    .expect("the case itself")
+                    .per_ray();
+                let own = case.per_ray();
+                let growth = |k: usize| own[k] / first[k];
+                let growth = Growth {
+                    primary_single: growth(0),
+                    primary_packet: growth(1),
+                    random_single: growth(2),
+                    random_packet: growth(3),
+                };
+                row(case, threads, rounds, growth)
             })
-            .collect()
+            .collect())
     })
 }
 
-/// The table row of `setup`: its best times as Mrays/s, and the traversal
-/// counts of one more (untimed) pass of each kind.
-fn row(
-    setup: &TraversalSetup,
-    bvh: &Bvh,
-    threads: usize,
-    build: Duration,
-    best: &[Duration; 4],
-    rounds: usize,
-    growth_vs_first: Growth,
-) -> TraversalRow {
+/// The table row of `case`: its best times as Mrays/s, and for raypack the
+/// traversal counts of one more (untimed) pass of each kind.
+fn row(case: &Case<'_>, threads: usize, rounds: usize, growth_vs_first: Growth) -> TraversalRow {
+    let setup = case.setup;
     let mrays = |n: usize, t: Duration| n as f64 / t.as_secs_f64() / 1e6;
-    let mut stats = [TraversalStats::default(); 3];
-    for p in &setup.primary_packets {
-        bvh.intersect_packet_with_stats(p, &mut stats[0]);
-    }
-    for r in &setup.primary {
-        bvh.intersect_with_stats(r, &mut stats[1]);
-    }
-    for p in &setup.random_packets {
-        bvh.intersect_packet_with_stats(p, &mut stats[2]);
-    }
+    let stats = match &case.structure {
+        Structure::Raypack(bvh) => {
+            let mut stats = [TraversalStats::default(); 3];
+            for p in &setup.primary_packets {
+                bvh.intersect_packet_with_stats(p, &mut stats[0]);
+            }
+            for r in &setup.primary {
+                bvh.intersect_with_stats(r, &mut stats[1]);
+            }
+            for p in &setup.random_packets {
+                bvh.intersect_packet_with_stats(p, &mut stats[2]);
+            }
+            stats.map(Some)
+        }
+        #[cfg(feature = "embree")]
+        Structure::Embree(_) => [None; 3],
+    };
     TraversalRow {
         scene: setup.name.clone(),
         primitives: setup.prims.len(),
+        engine: case.engine,
         threads,
-        build_s: build.as_secs_f64(),
+        build_s: case.build.as_secs_f64(),
         resolution: setup.resolution,
-        primary_single_mrays: mrays(setup.primary.len(), best[0]),
-        primary_packet_mrays: mrays(setup.primary.len(), best[1]),
-        random_single_mrays: mrays(setup.random.len(), best[2]),
-        random_packet_mrays: mrays(setup.random.len(), best[3]),
+        primary_single_mrays: mrays(setup.primary.len(), case.best[0]),
+        primary_packet_mrays: mrays(setup.primary.len(), case.best[1]),
+        random_single_mrays: mrays(setup.random.len(), case.best[2]),
+        random_packet_mrays: mrays(setup.random.len(), case.best[3]),
         primary_packet_stats: stats[0],
         primary_single_stats: stats[1],
         random_packet_stats: stats[2],

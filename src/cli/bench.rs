@@ -7,6 +7,7 @@ use clap::{Args, Subcommand};
 
 use crate::bench::kernels::{Measure, for_each_setup};
 use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure};
+use crate::bench::traversal::TraversalRow;
 use crate::cli::render::{parse_size, scene_camera};
 use crate::cli::scene_arg;
 use crate::cli::{CliError, CliResult};
@@ -51,6 +52,10 @@ pub struct TraversalArgs {
     /// Timed rounds per variant (the best is kept).
     #[arg(long, default_value_t = 5)]
     pub rounds: usize,
+    /// Engines to measure, comma-separated (`embree` needs the `embree` feature);
+    /// each engine's time per ray grows from its own first scene.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "raypack")]
+    pub engine: Vec<Engine>,
     /// Print a JSON array instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -87,7 +92,10 @@ pub fn run(cmd: BenchCommand) -> CliResult {
 
 fn traversal(args: TraversalArgs) -> CliResult {
     use crate::bench::scenes::framing_camera;
-    use crate::bench::traversal::{TraversalSetup, measure, scene_bounds};
+    use crate::bench::traversal::{Builder, TraversalSetup, measure, scene_bounds};
+
+    // Ask for the engines before generating scenes: Embree may be missing.
+    let builder = Builder::new(&args.engine).map_err(CliError::BadInput)?;
 
     let setups: Vec<TraversalSetup> = match &args.file {
         Some(path) => {
@@ -120,46 +128,10 @@ fn traversal(args: TraversalArgs) -> CliResult {
     };
     let mut rows = Vec::new();
     for &threads in &args.threads {
-        let measured = measure(&setups, threads.max(1), args.rounds.max(1));
+        let measured =
+            measure(&setups, &builder, threads.max(1), args.rounds.max(1)).map_err(CliError::Failed)?;
         if !args.json {
-            for row in &measured {
-                let (p, s) = (&row.primary_packet_stats, &row.primary_single_stats);
-                println!(
-                    "{:<14} {:>8} prims {}t  build {:>7.1} ms  primary {}x{}: single {:>6.2} packet8 {:>6.2} \
-                     Mrays/s ({:.2}x)  random: single {:>6.2} packet8 {:>6.2} Mrays/s ({:.2}x)  \
-                     [single {}; packet {}]",
-                    row.scene,
-                    row.primitives,
-                    row.threads,
-                    1e3 * row.build_s,
-                    row.resolution.0,
-                    row.resolution.1,
-                    row.primary_single_mrays,
-                    row.primary_packet_mrays,
-                    row.primary_packet_mrays / row.primary_single_mrays,
-                    row.random_single_mrays,
-                    row.random_packet_mrays,
-                    row.random_packet_mrays / row.random_single_mrays,
-                    s.caption(),
-                    p.caption(),
-                );
-            }
-            if let [first, rest @ ..] = measured.as_slice() {
-                for row in rest {
-                    let g = &row.growth_vs_first;
-                    println!(
-                        "time per ray, {} -> {} ({}t, same rounds): primary single {:.2}x packet8 {:.2}x, \
-                         random single {:.2}x packet8 {:.2}x",
-                        first.scene,
-                        row.scene,
-                        row.threads,
-                        g.primary_single,
-                        g.primary_packet,
-                        g.random_single,
-                        g.random_packet,
-                    );
-                }
-            }
+            print_traversal(&measured);
         }
         rows.extend(measured);
     }
@@ -170,12 +142,77 @@ fn traversal(args: TraversalArgs) -> CliResult {
         );
     } else {
         println!(
-            "(BVH; best of {} rounds after a warm-up, scenes and variants interleaved round by round; \
+            "(best of {} rounds after a warm-up, scenes, engines and variants interleaved round by round; \
              random rays: {} from the scene box, uniform directions)",
             args.rounds, args.random
         );
     }
     Ok(())
+}
+
+/// The rows of one thread count as a table, then each engine's growth of time
+/// per ray from the first scene, then raypack's speed over Embree's per scene.
+fn print_traversal(rows: &[TraversalRow]) {
+    for row in rows {
+        let counts = match (&row.primary_single_stats, &row.primary_packet_stats) {
+            (Some(s), Some(p)) => format!("  [single {}; packet {}]", s.caption(), p.caption()),
+            _ => String::new(),
+        };
+        println!(
+            "{:<14} {:>8} prims {:<7} {}t  build {:>7.1} ms  primary {}x{}: single {:>6.2} packet8 {:>6.2} \
+             Mrays/s ({:.2}x)  random: single {:>6.2} packet8 {:>6.2} Mrays/s ({:.2}x){counts}",
+            row.scene,
+            row.primitives,
+            engine_name(row.engine),
+            row.threads,
+            1e3 * row.build_s,
+            row.resolution.0,
+            row.resolution.1,
+            row.primary_single_mrays,
+            row.primary_packet_mrays,
+            row.primary_packet_mrays / row.primary_single_mrays,
+            row.random_single_mrays,
+            row.random_packet_mrays,
+            row.random_packet_mrays / row.random_single_mrays,
+        );
+    }
+    for engine in [Engine::Raypack, Engine::Embree] {
+        let of_engine: Vec<&TraversalRow> = rows.iter().filter(|r| r.engine == engine).collect();
+        if let [first, rest @ ..] = of_engine.as_slice() {
+            for row in rest {
+                let g = &row.growth_vs_first;
+                println!(
+                    "time per ray, {}, {} -> {} ({}t, same rounds): primary single {:.2}x packet8 {:.2}x, \
+                     random single {:.2}x packet8 {:.2}x",
+                    engine_name(engine),
+                    first.scene,
+                    row.scene,
+                    row.threads,
+                    g.primary_single,
+                    g.primary_packet,
+                    g.random_single,
+                    g.random_packet,
+                );
+            }
+        }
+    }
+    for ours in rows.iter().filter(|r| r.engine == Engine::Raypack) {
+        let theirs = rows
+            .iter()
+            .find(|r| r.engine == Engine::Embree && r.scene == ours.scene);
+        if let Some(theirs) = theirs {
+            println!(
+                "raypack / Embree Mrays/s, {} ({}t, same rounds): primary single {:.2}x packet8 {:.2}x, \
+                 random single {:.2}x packet8 {:.2}x",
+                ours.scene,
+                ours.threads,
+                ours.primary_single_mrays / theirs.primary_single_mrays,
+                ours.primary_packet_mrays / theirs.primary_packet_mrays,
+                ours.random_single_mrays / theirs.random_single_mrays,
+                ours.random_packet_mrays / theirs.random_packet_mrays,
+            );
+        }
+    }
 }
 
 fn kernels(args: KernelsArgs) -> CliResult {

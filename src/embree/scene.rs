@@ -13,7 +13,7 @@
 //! Embree's (barycentric for triangles, the same convention as raypack's). Rays
 //! with a non-finite origin or direction are not sent to Embree and miss, as
 //! they do in raypack. Queries set FTZ/DAZ on the calling thread
-//! ([`flush_denormals`](super::flush_denormals)).
+//! ([`flush_denormals`]).
 
 use std::sync::Arc;
 

@@ -46,7 +46,8 @@ pub fn with_accel<J: WithAccel>(scene: &Scene, kind: AccelKind, job: J) -> J::Ou
 }
 
 /// Run `job` with the engine the user chose: raypack's structure `kind`, or
-/// Embree in its default (fast) scene mode on [`DEFAULT_EMBREE_CONFIG`], with
+/// Embree in its default (fast) scene mode on
+/// [`DEFAULT_EMBREE_CONFIG`](crate::compare::DEFAULT_EMBREE_CONFIG), with
 /// FTZ/DAZ set on every worker thread as Embree wants.
 pub fn with_engine<J: WithAccel>(
     scene: &Scene,
