@@ -68,6 +68,27 @@ fn info_describes_every_scene() {
     assert!(checked >= 3);
 }
 
+/// Every SCENE argument also takes a generated scene, `gen:NAME[:N[:SEED]]`;
+/// a misspelt one is bad input.
+#[test]
+fn info_takes_generated_scenes() {
+    let out = info(&["gen:spheres:123:4".as_ref(), "--json".as_ref()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+    assert_eq!(json["primitives"], 123);
+    assert_eq!(json["counts"]["sphere"], 123);
+    for (spec, expected) in [
+        ("gen:nope", "unknown generated scene `nope`"),
+        ("gen:mesh:many", "must be a whole number, got `many`"),
+    ] {
+        let out = info(&[spec.as_ref()]);
+        assert_eq!(out.status.code(), Some(2), "{spec}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(expected), "{spec}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+}
+
 #[test]
 fn info_on_a_bad_scene_exits_2_with_file_and_line() {
     let dir = Scratch::new("cli-info");

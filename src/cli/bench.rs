@@ -34,7 +34,8 @@ pub struct TraversalArgs {
     /// Primitive counts of the generated scenes.
     #[arg(long, value_delimiter = ',', default_value = "1000,10000,100000,1000000")]
     pub sizes: Vec<usize>,
-    /// Measure this scene file instead (e.g. assets/dragon.ply), with its camera or a framing one.
+    /// Measure this scene instead (a file such as assets/dragon.ply, or
+    /// `gen:NAME[:N[:SEED]]`), with its camera or a framing one.
     #[arg(long)]
     pub file: Option<std::path::PathBuf>,
     /// Image width of the primary rays.
@@ -99,7 +100,7 @@ fn traversal(args: TraversalArgs) -> CliResult {
 
     let setups: Vec<TraversalSetup> = match &args.file {
         Some(path) => {
-            let scene = crate::scene::load(path).map_err(|e| CliError::BadInput(e.into()))?;
+            let scene = scene_arg::load_scene(path)?;
             let camera = match scene.camera {
                 Some(spec) => spec.camera_at(args.width, args.height),
                 None => Ok(framing_camera(
@@ -255,8 +256,8 @@ fn kernels(args: KernelsArgs) -> CliResult {
 /// Options of `bench scene`.
 #[derive(Args, Debug)]
 pub struct SceneArgs {
-    /// Scene file, or `gen:NAME[:N[:SEED]]` for a generated scene (as in `check`).
-    pub scene: String,
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
+    pub scene: std::path::PathBuf,
     /// Thread counts to measure, comma-separated.
     #[arg(long, value_delimiter = ',', default_values_t = [1u16, 2], value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub threads: Vec<u16>,
@@ -374,9 +375,8 @@ fn scene(args: SceneArgs) -> CliResult {
             }
         }
     }
-    let name = Path::new(&args.scene)
-        .file_name()
-        .map_or_else(|| args.scene.clone(), |n| n.to_string_lossy().into_owned());
+    let name = args.scene.file_name().unwrap_or(args.scene.as_os_str());
+    let name = name.to_string_lossy().into_owned();
     let mut rows: Vec<SceneRow> = Vec::new();
     for &engine in &args.engine {
         let job = SceneJob {

@@ -5,6 +5,8 @@
 //! Both engines trace the same rays on the same rayon threads, with FTZ/DAZ set;
 //! raypack's side uses `--accel` (the BVH by default, brute force as the reference).
 
+use std::path::PathBuf;
+
 use clap::Args;
 
 use crate::accel::AccelKind;
@@ -28,8 +30,8 @@ pub enum RayChoice {
 /// Options of `check`.
 #[derive(Args, Debug)]
 pub struct CheckArgs {
-    /// Scene file, or `gen:NAME[:N[:SEED]]` for a generated scene.
-    pub scene: String,
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
+    pub scene: PathBuf,
     /// Ray sets.
     #[arg(long, value_enum, default_value_t = RayChoice::Both)]
     pub rays: RayChoice,

@@ -8,14 +8,14 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use crate::cli::{CliError, CliResult};
+use crate::cli::{CliResult, scene_arg};
 use crate::geometry::PrimitiveKind;
-use crate::scene::{self, CameraSpec, Light, Material, Scene};
+use crate::scene::{CameraSpec, Light, Material, Scene};
 
 /// Options of `info`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene file (.nff or .toml; meshes once their readers exist).
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
     pub scene: PathBuf,
     /// Print JSON instead of text.
     #[arg(long)]
@@ -52,7 +52,7 @@ struct Bounds {
 /// Load the scene and print the report; a scene that does not load is bad input (exit 2).
 pub fn run(args: Args) -> CliResult {
     let start = Instant::now();
-    let scene = scene::load(&args.scene).map_err(|e| CliError::BadInput(e.into()))?;
+    let scene = scene_arg::load_scene(&args.scene)?;
     let load_seconds = start.elapsed().as_secs_f64();
     let report = report(&scene, load_seconds);
     let out = if args.json {

@@ -8,7 +8,7 @@ use clap::Args as ClapArgs;
 
 use crate::accel::{Accel, CountedAccel};
 use crate::camera::Camera;
-use crate::cli::{CliError, CliResult};
+use crate::cli::{CliError, CliResult, scene_arg};
 use crate::render::annotate::{HeatMapKind, NoPixelCosts, annotate_render};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::output::{AtomicFile, png_bytes};
@@ -23,7 +23,7 @@ use glam::Vec3;
 /// Options of `render`.
 #[derive(ClapArgs, Debug)]
 pub struct Args {
-    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml).
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
     pub scene: PathBuf,
     /// Output PNG (written atomically: complete or not at all).
     #[arg(short, long, default_value = "out.png")]
@@ -101,10 +101,11 @@ pub fn thread_pool(threads: Option<u16>) -> Result<rayon::ThreadPool, CliError> 
         .map_err(|e| CliError::Failed(anyhow::anyhow!("cannot start the worker threads: {e}")))
 }
 
-/// Load a scene, timing it; a bad file is the user's to fix (exit 2).
+/// Load a scene (a file or `gen:NAME[:N[:SEED]]`), timing it; a bad one is
+/// the user's to fix (exit 2).
 pub fn load_scene(path: &Path) -> Result<(Scene, f64), CliError> {
     let start = Instant::now();
-    let scene = crate::scene::load(path).map_err(|e| CliError::BadInput(e.into()))?;
+    let scene = scene_arg::load_scene(path)?;
     Ok((scene, start.elapsed().as_secs_f64()))
 }
 

@@ -20,7 +20,7 @@ use crate::scene::Scene;
 /// Options of `stats`.
 #[derive(ClapArgs, Debug)]
 pub struct Args {
-    /// Scene file.
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
     pub scene: PathBuf,
     /// Count rays the SPD way: 512x512, eye rays through pixel corners (513x513), depth 5.
     #[arg(long, required = true)]

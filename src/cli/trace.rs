@@ -19,8 +19,8 @@ use crate::scene::Scene;
 /// Options of `trace`.
 #[derive(Args, Debug)]
 pub struct TraceArgs {
-    /// Scene file, or `gen:NAME[:N[:SEED]]` for a generated scene.
-    pub scene: String,
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
+    pub scene: PathBuf,
     /// Rays: CSV with header `ox,oy,oz,dx,dy,dz,tmin,tmax`.
     #[arg(long)]
     pub rays: PathBuf,
