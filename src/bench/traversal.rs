@@ -1,6 +1,8 @@
 //! Traversal throughput: Mrays/s of single-ray and 8-ray packet traversal of the
 //! BVH on primary (coherent) and random (incoherent) rays, and build times;
 //! shared by `raypack bench traversal` and the criterion bench `benches/traversal.rs`.
+//! With the `embree` feature, Embree's BVH is timed on the same rays alongside
+//! (`rtcIntersect1` and `rtcIntersect8`; its build runs on the device's own thread).
 //!
 //! Rays are made before timing, so only traversal is measured: primary rays
 //! through pixel centres in 16×16 tiles of 4×2-pixel packets (the same rays for
