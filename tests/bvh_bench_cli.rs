@@ -3,27 +3,11 @@
 
 mod cli_support;
 
-use cli_support::{raypack, scratch, stderr};
+use cli_support::{TINY_TRAVERSAL, raypack, scratch, stderr};
 
 #[test]
 fn traversal_bench_reports_json_rows() {
-    let out = raypack(&[
-        "bench",
-        "traversal",
-        "--sizes",
-        "200,400",
-        "--width",
-        "32",
-        "--height",
-        "16",
-        "--random",
-        "256",
-        "--rounds",
-        "1",
-        "--threads",
-        "1",
-        "--json",
-    ]);
+    let out = raypack(&[&TINY_TRAVERSAL[..], &["--threads", "1", "--json"]].concat());
     assert!(out.status.success(), "{}", stderr(&out));
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     let rows = rows.as_array().expect("an array of rows");

@@ -1,7 +1,11 @@
 //! `raypack check` and `raypack trace --engine embree` end to end.
 #![cfg(feature = "embree")]
 
+mod cli_support;
+
 use std::process::Command;
+
+use cli_support::TINY_TRAVERSAL;
 
 use raypack::compare::csv::format_rays;
 use raypack::compare::random_rays;
@@ -175,23 +179,8 @@ fn render_and_bench_scene_run_through_embree() {
 
 #[test]
 fn bench_traversal_measures_both_engines_with_their_own_growth() {
-    let args = [
-        "bench",
-        "traversal",
-        "--sizes",
-        "200,400",
-        "--width",
-        "32",
-        "--height",
-        "16",
-        "--random",
-        "256",
-        "--rounds",
-        "1",
-        "--engine",
-        "raypack,embree",
-    ];
-    let o = raypack().args(args).arg("--json").output().unwrap();
+    let args = [&TINY_TRAVERSAL[..], &["--engine", "raypack,embree"]].concat();
+    let o = raypack().args(&args).arg("--json").output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let rows: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let rows = rows.as_array().unwrap();
@@ -227,7 +216,7 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
         "{g} vs {embree_from_rates}"
     );
 
-    let o = raypack().args(args).output().unwrap();
+    let o = raypack().args(&args).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8(o.stdout).unwrap();
     for start in [

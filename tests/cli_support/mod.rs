@@ -14,6 +14,23 @@ pub fn raypack(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// A `bench traversal` small enough for a test: two tiny generated meshes,
+/// 32×16 primary rays, 256 random rays, one round.
+pub const TINY_TRAVERSAL: [&str; 12] = [
+    "bench",
+    "traversal",
+    "--sizes",
+    "200,400",
+    "--width",
+    "32",
+    "--height",
+    "16",
+    "--random",
+    "256",
+    "--rounds",
+    "1",
+];
+
 /// A fresh, empty directory for test `name` of this process.
 pub fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("raypack-cli-{name}-{}", std::process::id()));
