@@ -26,6 +26,10 @@ use raypack::embree::{DEFAULT_CONFIG, Device, EmbreeScene, flush_denormals};
 use raypack::ray::Ray;
 use raypack::scene::Scene;
 
+// The BVH of a large scene on huge pages, as the `raypack` binary has it.
+#[global_allocator]
+static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
+
 /// A rayon pool of `threads` threads, each with FTZ/DAZ set.
 fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()

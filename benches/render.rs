@@ -13,6 +13,10 @@ use raypack::accel::BruteForce;
 use raypack::bench::scene::PrimaryFrame;
 use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render};
 
+// The BVH of a large scene on huge pages, as the `raypack` binary has it.
+#[global_allocator]
+static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
+
 const KERNELS: [KernelKind; 2] = [KernelKind::Scalar, KernelKind::Packet8];
 
 fn pool(threads: usize) -> rayon::ThreadPool {

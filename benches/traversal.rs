@@ -12,6 +12,10 @@ use raypack::accel::Bvh;
 use raypack::bench::scenes::framing_camera;
 use raypack::bench::traversal::{TraversalSetup, scene_bounds, trace_packets, trace_single};
 
+// The BVH of a large scene on huge pages, as the `raypack` binary has it.
+#[global_allocator]
+static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
+
 const RESOLUTION: u32 = 1024;
 const RANDOM_RAYS: usize = 1 << 18;
 

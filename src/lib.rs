@@ -18,6 +18,7 @@ pub mod compare;
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod geometry;
+pub mod huge_pages;
 pub mod packet;
 pub mod ray;
 pub mod render;

@@ -1,5 +1,9 @@
 //! The `raypack` binary; see `raypack --help`.
 
+// Large scenes' BVHs get transparent huge pages, as Embree's do.
+#[global_allocator]
+static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
+
 fn main() -> std::process::ExitCode {
     raypack::cli::main()
 }

@@ -144,8 +144,10 @@ fn traversal(args: TraversalArgs) -> CliResult {
     } else {
         println!(
             "(best of {} rounds after a warm-up, scenes, engines and variants interleaved round by round; \
-             random rays: {} from the scene box, uniform directions)",
-            args.rounds, args.random
+             random rays: {} from the scene box, uniform directions; transparent huge pages: {})",
+            args.rounds,
+            args.random,
+            crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
         );
     }
     Ok(())

@@ -1,0 +1,236 @@
+//! A global allocator that asks Linux for transparent huge pages (2 MiB) on
+//! large blocks.
+//!
+//! A BVH over a million triangles spans about 60 MB. With 4 KiB pages, nearly
+//! every node or triangle block an incoherent ray reaches deep in the tree is
+//! also a TLB miss, a page walk that a virtual machine pays twice (guest and
+//! host tables). Embree advises huge pages for its own memory; binaries that
+//! trace large scenes opt in the same way:
+//!
+//! ```
+//! #[global_allocator]
+//! static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
+//! # fn main() {}
+//! ```
+//!
+//! Blocks of at least [`ADVISED_BYTES`] are mapped by the allocator itself,
+//! aligned to a huge page and advised with `madvise(MADV_HUGEPAGE)` before any
+//! page is touched, so the kernel backs them with huge pages from the first
+//! fault (blocks from `malloc` may reuse pages already touched, and do not
+//! start on a huge page boundary). The advice takes effect where the system's
+//! transparent huge page mode is `madvise` or `always` ([`system_mode`] reads
+//! it, for reports); it is a hint, which a kernel without the feature ignores.
+//! Smaller blocks, and every block on other systems, come from the system
+//! allocator.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+
+/// Size of a huge page on x86-64 (and of the common AArch64 configuration).
+pub const HUGE_PAGE_BYTES: usize = 2 << 20;
+
+/// Blocks this large or larger are mapped on huge pages, rounded up to whole
+/// ones (the last, partly used, costs at most one huge page per block).
+pub const ADVISED_BYTES: usize = 2 * HUGE_PAGE_BYTES;
+
+/// The system allocator, with large blocks on huge pages.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct HugePageAlloc;
+
+/// True for the blocks [`HugePageAlloc`] maps itself.
+#[inline]
+fn is_huge(layout: Layout) -> bool {
+    cfg!(target_os = "linux") && layout.size() >= ADVISED_BYTES && layout.align() <= HUGE_PAGE_BYTES
+}
+
+// SAFETY: small blocks are System's; large ones are whole private mappings of
+// at least the requested size, aligned to a huge page (hence to any alignment
+// `is_huge` admits), and unmapped with the same length they were mapped with.
+unsafe impl GlobalAlloc for HugePageAlloc {
+    #[inline]
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if is_huge(layout) {
+            map::map(layout.size())
+        } else {
+            // SAFETY: the caller's contract is System's.
+            unsafe { System.alloc(layout) }
+        }
+    }
+
+    #[inline]
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        if is_huge(layout) {
+            // Fresh anonymous mappings read as zeros.
+            map::map(layout.size())
+        } else {
+            // SAFETY: the caller's contract is System's.
+            unsafe { System.alloc_zeroed(layout) }
+        }
+    }
+
+    #[inline]
+    unsafe fn dealloc(&self, block: *mut u8, layout: Layout) {
+        if is_huge(layout) {
+            // SAFETY: `block` was mapped by `map::map` for this size.
+            unsafe { map::unmap(block, layout.size()) }
+        } else {
+            // SAFETY: the caller's contract is System's.
+            unsafe { System.dealloc(block, layout) }
+        }
+    }
+
+    #[inline]
+    unsafe fn realloc(&self, block: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        // SAFETY: the caller guarantees `new_size` makes a valid layout.
+        let new_layout = unsafe { Layout::from_size_align_unchecked(new_size, layout.align()) };
+        if !is_huge(layout) && !is_huge(new_layout) {
+            // SAFETY: the caller's contract is System's.
+            return unsafe { System.realloc(block, layout, new_size) };
+        }
+        // Into a new block and out of the old: growth by doubling keeps the
+        // copies to the final size in all.
+        // SAFETY: `new_layout` is valid and non-zero (it is at least as large
+        // as one of the two blocks, and `realloc` is never asked for size 0).
+        let moved = unsafe { self.alloc(new_layout) };
+        if !moved.is_null() {
+            // SAFETY: both blocks hold at least the smaller size and do not overlap.
+            unsafe {
+                std::ptr::copy_nonoverlapping(block, moved, layout.size().min(new_size));
+                self.dealloc(block, layout);
+            }
+        }
+        moved
+    }
+}
+
+/// Mapping and unmapping whole huge pages.
+#[cfg(target_os = "linux")]
+mod map {
+    use super::HUGE_PAGE_BYTES;
+
+    /// A private anonymous mapping of `bytes` rounded up to whole huge pages,
+    /// starting on a huge page boundary and advised for huge pages; null if
+    /// the system has no such memory to give.
+    pub fn map(bytes: usize) -> *mut u8 {
+        let len = bytes.next_multiple_of(HUGE_PAGE_BYTES);
+        // Map one huge page more than needed, then unmap the slack before the
+        // first boundary and after the block.
+        // SAFETY: a fresh mapping the kernel places; no memory of ours is touched.
+        let raw = unsafe {
+            libc::mmap(
+                std::ptr::null_mut(),
+                len + HUGE_PAGE_BYTES,
+                libc::PROT_READ | libc::PROT_WRITE,
+                libc::MAP_PRIVATE | libc::MAP_ANONYMOUS,
+                -1,
+                0,
+            )
+        };
+        if raw == libc::MAP_FAILED {
+            return std::ptr::null_mut();
+        }
+        let start = (raw as usize).next_multiple_of(HUGE_PAGE_BYTES);
+        let head = start - raw as usize;
+        // SAFETY: both slack ranges lie inside the mapping just made, and the
+        // block in between is untouched when it is advised. The advice is a
+        // hint: its result is ignored (EINVAL without transparent huge pages).
+        unsafe {
+            if head > 0 {
+                libc::munmap(raw, head);
+            }
+            if head < HUGE_PAGE_BYTES {
+                libc::munmap((start + len) as *mut libc::c_void, HUGE_PAGE_BYTES - head);
+            }
+            libc::madvise(start as *mut libc::c_void, len, libc::MADV_HUGEPAGE);
+        }
+        start as *mut u8
+    }
+
+    /// Unmap a block `map` returned for `bytes`.
+    ///
+    /// # Safety
+    /// `block` came from `map(bytes)` and is not used again.
+    pub unsafe fn unmap(block: *mut u8, bytes: usize) {
+        // SAFETY: the caller's contract; the length is the one mapped.
+        unsafe {
+            libc::munmap(block.cast(), bytes.next_multiple_of(HUGE_PAGE_BYTES));
+        }
+    }
+}
+
+/// Other systems: `is_huge` is false, so nothing is mapped here.
+#[cfg(not(target_os = "linux"))]
+mod map {
+    pub fn map(_bytes: usize) -> *mut u8 {
+        unreachable!("huge page blocks are Linux only")
+    }
+
+    pub unsafe fn unmap(_block: *mut u8, _bytes: usize) {
+        unreachable!("huge page blocks are Linux only")
+    }
+}
+
+/// The system's transparent huge page mode (`always`, `madvise` or `never`),
+/// or None where it cannot be read (not Linux, or no such feature).
+pub fn system_mode() -> Option<String> {
+    let setting = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled").ok()?;
+    parse_mode(&setting)
+}
+
+/// The bracketed word of a sysfs choice list such as `always [madvise] never`.
+fn parse_mode(setting: &str) -> Option<String> {
+    let (_, rest) = setting.split_once('[')?;
+    let (mode, _) = rest.split_once(']')?;
+    Some(mode.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mode_is_the_bracketed_choice() {
+        assert_eq!(parse_mode("always [madvise] never\n").as_deref(), Some("madvise"));
+        assert_eq!(parse_mode("[always] madvise never").as_deref(), Some("always"));
+        assert_eq!(parse_mode("always madvise never"), None);
+    }
+
+    #[test]
+    fn blocks_of_every_size_round_trip() {
+        let alloc = HugePageAlloc;
+        // Small, at the threshold, and across it both ways by `realloc`.
+        for bytes in [
+            1,
+            4096,
+            ADVISED_BYTES / 2,
+            ADVISED_BYTES - 1,
+            ADVISED_BYTES,
+            ADVISED_BYTES + 12345,
+        ] {
+            let layout = Layout::from_size_align(bytes, 64).expect("valid layout");
+            // SAFETY: layouts of non-zero size; each block is freed with its layout.
+            unsafe {
+                let block = alloc.alloc_zeroed(layout);
+                assert!(!block.is_null());
+                if is_huge(layout) {
+                    assert_eq!(block as usize % HUGE_PAGE_BYTES, 0, "{bytes} bytes");
+                }
+                let data = std::slice::from_raw_parts_mut(block, bytes);
+                assert!(data.iter().all(|&b| b == 0));
+                data.iter_mut().enumerate().for_each(|(i, b)| *b = i as u8);
+                let grown = alloc.realloc(block, layout, 2 * bytes);
+                assert!(!grown.is_null());
+                let kept = std::slice::from_raw_parts(grown, bytes);
+                assert!(kept.iter().enumerate().all(|(i, &b)| b == i as u8));
+                let grown_layout = Layout::from_size_align(2 * bytes, 64).expect("valid layout");
+                let shrunk = alloc.realloc(grown, grown_layout, bytes / 2 + 1);
+                assert!(!shrunk.is_null());
+                let kept = std::slice::from_raw_parts(shrunk, bytes / 2 + 1);
+                assert!(kept.iter().enumerate().all(|(i, &b)| b == i as u8));
+                alloc.dealloc(
+                    shrunk,
+                    Layout::from_size_align(bytes / 2 + 1, 64).expect("valid layout"),
+                );
+            }
+        }
+    }
+}
