@@ -86,6 +86,13 @@ unsafe impl GlobalAlloc for HugePageAlloc {
             // SAFETY: the caller's contract is System's.
             return unsafe { System.realloc(block, layout, new_size) };
         }
+        if is_huge(layout)
+            && is_huge(new_layout)
+            && layout.size().next_multiple_of(HUGE_PAGE_BYTES) == new_size.next_multiple_of(HUGE_PAGE_BYTES)
+        {
+            // The same whole huge pages hold the new size.
+            return block;
+        }
         // Into a new block and out of the old: growth by doubling keeps the
         // copies to the final size in all.
         // SAFETY: `new_layout` is valid and non-zero (it is at least as large
@@ -231,6 +238,25 @@ mod tests {
                     Layout::from_size_align(bytes / 2 + 1, 64).expect("valid layout"),
                 );
             }
+        }
+    }
+
+    #[test]
+    fn growth_within_the_last_huge_page_keeps_the_block() {
+        let alloc = HugePageAlloc;
+        let layout = Layout::from_size_align(ADVISED_BYTES + 12345, 8).expect("valid layout");
+        // SAFETY: a non-zero layout; the block is freed with its final layout.
+        unsafe {
+            let block = alloc.alloc(layout);
+            assert!(!block.is_null());
+            block.write(7);
+            let grown = alloc.realloc(block, layout, ADVISED_BYTES + 54321);
+            assert_eq!(grown, block);
+            assert_eq!(grown.read(), 7);
+            alloc.dealloc(
+                grown,
+                Layout::from_size_align(ADVISED_BYTES + 54321, 8).expect("valid layout"),
+            );
         }
     }
 }
