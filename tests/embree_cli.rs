@@ -216,7 +216,9 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
         "{g} vs {embree_from_rates}"
     );
 
-    let o = raypack().args(&args).output().unwrap();
+    // Two thread counts: Embree gets a device of each in turn (its thread
+    // limit is process-wide), and builds are compared at the same count.
+    let o = raypack().args(&args).args(["--threads", "1,2"]).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8(o.stdout).unwrap();
     for start in [
@@ -224,7 +226,17 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
         "time per ray, embree, mesh-200 -> mesh-400 (1t",
         "raypack / Embree Mrays/s, mesh-200 (1t",
         "raypack / Embree Mrays/s, mesh-400 (1t",
+        "time per ray, embree, mesh-200 -> mesh-400 (2t",
+        "raypack / Embree Mrays/s, mesh-400 (2t",
     ] {
         assert!(text.lines().any(|l| l.starts_with(start)), "{start}\n{text}");
     }
+    let two_threads = text
+        .lines()
+        .find(|l| l.starts_with("raypack / Embree Mrays/s, mesh-200 (2t"))
+        .unwrap();
+    assert!(
+        two_threads.contains("build time raypack / Embree") && two_threads.ends_with("(both on 2t)"),
+        "{two_threads}"
+    );
 }

@@ -2,7 +2,8 @@
 //! BVH on primary (coherent) and random (incoherent) rays, and build times;
 //! shared by `raypack bench traversal` and the criterion bench `benches/traversal.rs`.
 //! With the `embree` feature, Embree's BVH is timed on the same rays alongside
-//! (`rtcIntersect1` and `rtcIntersect8`; its build runs on the device's own thread).
+//! (`rtcIntersect1` and `rtcIntersect8`; its build gets the same thread count
+//! as raypack's).
 //!
 //! Rays are made before timing, so only traversal is measured: primary rays
 //! through pixel centres in 16×16 tiles of 4×2-pixel packets (the same rays for
@@ -168,19 +169,24 @@ impl Structure {
     }
 }
 
-/// Builds each engine's structure; holds Embree's device when Embree is measured.
+/// Builds each engine's structure with `threads` threads; holds Embree's
+/// device when Embree is measured.
 pub struct Builder {
     engines: Vec<Engine>,
+    threads: usize,
     #[cfg(feature = "embree")]
     device: Option<std::sync::Arc<crate::embree::Device>>,
 }
 
 impl Builder {
-    /// A builder for `engines`: Embree's device (on
-    /// [`DEFAULT_EMBREE_CONFIG`](crate::compare::DEFAULT_EMBREE_CONFIG))
-    /// is made here, so a missing feature or a failing device is reported
-    /// before any scene is generated.
-    pub fn new(engines: &[Engine]) -> anyhow::Result<Self> {
+    /// A builder for `engines` on `threads` threads: Embree's device (on
+    /// [`embree_config`](crate::compare::embree_config)`(threads)`, so its
+    /// build gets as many threads as raypack's) is made here, so a missing
+    /// feature or a failing device is reported before any scene is generated.
+    ///
+    /// Embree's thread limit is the task scheduler's, shared by every device
+    /// of the process: drop one builder before making the next.
+    pub fn new(engines: &[Engine], threads: usize) -> anyhow::Result<Self> {
         anyhow::ensure!(!engines.is_empty(), "no engine to measure");
         let mut distinct = Vec::new();
         for &engine in engines {
@@ -189,27 +195,37 @@ impl Builder {
             }
         }
         let engines = distinct;
+        let threads = threads.max(1);
         let embree = engines.contains(&Engine::Embree);
         #[cfg(feature = "embree")]
         {
             let device = if embree {
-                let device = crate::embree::Device::new(crate::compare::DEFAULT_EMBREE_CONFIG)?;
+                let device = crate::embree::Device::new(&crate::compare::embree_config(threads))?;
                 Some(std::sync::Arc::new(device))
             } else {
                 None
             };
-            Ok(Self { engines, device })
+            Ok(Self {
+                engines,
+                threads,
+                device,
+            })
         }
         #[cfg(not(feature = "embree"))]
         {
             anyhow::ensure!(!embree, crate::compare::EMBREE_MISSING);
-            Ok(Self { engines })
+            Ok(Self { engines, threads })
         }
     }
 
     /// The engines measured, in the order given.
     pub fn engines(&self) -> &[Engine] {
         &self.engines
+    }
+
+    /// Threads of the builds, and of the pool that [`measure`] traces on.
+    pub fn threads(&self) -> usize {
+        self.threads
     }
 
     /// Build `engine`'s structure over `prims`.
@@ -311,7 +327,8 @@ impl Case<'_> {
     }
 }
 
-/// Measure every engine of `builder` on `setups` on a rayon pool of `threads`:
+/// Measure every engine of `builder` on `setups` on a rayon pool of the
+/// builder's threads:
 /// each build time (best of 3), then the four traversal variants of every
 /// scene and engine, interleaved scene by scene, engine by engine and variant
 /// by variant, best of `rounds` after a warm-up round. With Embree among the
@@ -319,10 +336,9 @@ impl Case<'_> {
 pub fn measure(
     setups: &[TraversalSetup],
     builder: &Builder,
-    threads: usize,
     rounds: usize,
 ) -> anyhow::Result<Vec<TraversalRow>> {
-    let engines = builder.engines();
+    let (engines, threads) = (builder.engines(), builder.threads());
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads);
     #[cfg(feature = "embree")]
     let pool = if engines.contains(&Engine::Embree) {

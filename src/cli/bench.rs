@@ -96,7 +96,8 @@ fn traversal(args: TraversalArgs) -> CliResult {
     use crate::bench::traversal::{Builder, TraversalSetup, measure, scene_bounds};
 
     // Ask for the engines before generating scenes: Embree may be missing.
-    let builder = Builder::new(&args.engine).map_err(CliError::BadInput)?;
+    let first_threads = args.threads.first().copied().unwrap_or(1);
+    let mut builder = Some(Builder::new(&args.engine, first_threads).map_err(CliError::BadInput)?);
 
     let setups: Vec<TraversalSetup> = match &args.file {
         Some(path) => {
@@ -129,8 +130,15 @@ fn traversal(args: TraversalArgs) -> CliResult {
     };
     let mut rows = Vec::new();
     for &threads in &args.threads {
-        let measured =
-            measure(&setups, &builder, threads.max(1), args.rounds.max(1)).map_err(CliError::Failed)?;
+        // Embree's device takes the thread count: one device at a time.
+        let current = match builder.take() {
+            Some(b) if b.threads() == threads.max(1) => b,
+            previous => {
+                drop(previous);
+                Builder::new(&args.engine, threads).map_err(CliError::Failed)?
+            }
+        };
+        let measured = measure(&setups, &current, args.rounds.max(1)).map_err(CliError::Failed)?;
         if !args.json {
             print_traversal(&measured);
         }
@@ -206,13 +214,15 @@ fn print_traversal(rows: &[TraversalRow]) {
         if let Some(theirs) = theirs {
             println!(
                 "raypack / Embree Mrays/s, {} ({}t, same rounds): primary single {:.2}x packet8 {:.2}x, \
-                 random single {:.2}x packet8 {:.2}x",
+                 random single {:.2}x packet8 {:.2}x; build time raypack / Embree {:.2}x (both on {}t)",
                 ours.scene,
                 ours.threads,
                 ours.primary_single_mrays / theirs.primary_single_mrays,
                 ours.primary_packet_mrays / theirs.primary_packet_mrays,
                 ours.random_single_mrays / theirs.random_single_mrays,
                 ours.random_packet_mrays / theirs.random_packet_mrays,
+                ours.build_s / theirs.build_s,
+                ours.threads,
             );
         }
     }

@@ -21,9 +21,27 @@ pub enum EmbreeMode {
 }
 
 /// The device configuration the comparisons use by default: Embree's 8-wide
-/// AVX2 kernels, matching raypack's 8-wide packets, and one BVH build thread.
+/// AVX2 kernels, matching raypack's 8-wide packets, and one BVH build thread
+/// ([`embree_config`] of 1).
 pub const DEFAULT_EMBREE_CONFIG: &str = "threads=1,isa=avx2";
+
+/// The device configuration of [`DEFAULT_EMBREE_CONFIG`] with `threads` BVH
+/// build threads, for build times compared at raypack's thread count.
+pub fn embree_config(threads: usize) -> String {
+    format!("threads={threads},isa=avx2")
+}
 
 /// What to tell a user who asks for Embree in a build without it.
 pub const EMBREE_MISSING: &str = "this raypack was built without the `embree` feature: run \
      scripts/install-embree.sh, then build with `cargo build --release --features embree`";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_config_is_the_one_thread_config() {
+        assert_eq!(DEFAULT_EMBREE_CONFIG, embree_config(1));
+        assert_eq!(embree_config(2), "threads=2,isa=avx2");
+    }
+}

@@ -12,5 +12,5 @@ pub mod test_scenes;
 
 pub use agreement::{Agreement, AgreementOptions, Disagreement, DisagreementKind};
 pub use batch::{Kernel, trace_rays};
-pub use engine::{DEFAULT_EMBREE_CONFIG, EMBREE_MISSING, EmbreeMode, Engine};
+pub use engine::{DEFAULT_EMBREE_CONFIG, EMBREE_MISSING, EmbreeMode, Engine, embree_config};
 pub use ray_sets::{RaySet, primary_rays, primary_rays_in_blocks, random_rays};
