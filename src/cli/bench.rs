@@ -97,7 +97,7 @@ fn traversal(args: TraversalArgs) -> CliResult {
 
     // Ask for the engines before generating scenes: Embree may be missing.
     let first_threads = args.threads.first().copied().unwrap_or(1);
-    let mut builder = Some(Builder::new(&args.engine, first_threads).map_err(CliError::BadInput)?);
+    let mut builder = Builder::new(&args.engine, first_threads).map_err(CliError::BadInput)?;
 
     let setups: Vec<TraversalSetup> = match &args.file {
         Some(path) => {
@@ -130,15 +130,13 @@ fn traversal(args: TraversalArgs) -> CliResult {
     };
     let mut rows = Vec::new();
     for &threads in &args.threads {
-        // Embree's device takes the thread count: one device at a time.
-        let current = match builder.take() {
-            Some(b) if b.threads() == threads.max(1) => b,
-            previous => {
-                drop(previous);
-                Builder::new(&args.engine, threads).map_err(CliError::Failed)?
-            }
-        };
-        let measured = measure(&setups, &current, args.rounds.max(1)).map_err(CliError::Failed)?;
+        if builder.threads() != threads.max(1) {
+            // Embree's device takes the thread count, and its thread limit is
+            // process-wide: the old device goes before the new one is made.
+            drop(builder);
+            builder = Builder::new(&args.engine, threads).map_err(CliError::Failed)?;
+        }
+        let measured = measure(&setups, &builder, args.rounds.max(1)).map_err(CliError::Failed)?;
         if !args.json {
             print_traversal(&measured);
         }
