@@ -363,6 +363,7 @@ fn committed_scenes_are_the_generators_output() {
         ("spd_balls_small.nff", Kind::Sphereflake, 2),
         ("spd_tetra_small.nff", Kind::Tetra, 1),
         ("spd_mount_small.nff", Kind::FractalMountain, 1),
+        ("spd_gears_small.nff", Kind::Gears, 1),
     ];
     for (name, kind, size) in files {
         let text = std::fs::read_to_string(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));

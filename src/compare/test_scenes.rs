@@ -71,9 +71,14 @@ pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
             return Err(format!("{spec}: expected gen:NAME[:N[:SEED]]"));
         }
         by_name(name, n as usize, seed).ok_or_else(|| {
+            let kinds: Vec<_> = crate::scene::generate::Kind::ALL
+                .iter()
+                .map(|k| k.name())
+                .collect();
             format!(
-                "{spec}: unknown generated scene `{name}` (one of {})",
-                NAMES.join(", ")
+                "{spec}: unknown generated scene `{name}` (one of {}; or a `raypack gen` kind: {})",
+                NAMES.join(", "),
+                kinds.join(", ")
             )
         })
     })())

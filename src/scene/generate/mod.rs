@@ -9,6 +9,7 @@
 //! | `sphereflake` (SPD `balls`) | SPD size factor (recursion depth) | 4 | `Σ_{i≤n} 9^i` spheres + 1 polygon (7382) |
 //! | `tetra` | SPD size factor | 4 | `4^(n+2)` triangles (4096) |
 //! | `fractal-mountain` (SPD `mount`) | SPD size factor | 4 | `2·4^(n+2)` triangles + 4 spheres (8196) |
+//! | `gears` | SPD size factor | 4 | `146·n³` polygons + the floor (9345) |
 //! | `random-spheres` | sphere count | 10000 | `n` spheres |
 //! | `random-triangles` | triangle count | 10000 | `n` triangles |
 //! | `terrain` | subdivision level | 6 | `2·4^n` triangles (8192) |
@@ -19,6 +20,7 @@
 //! mountain's `--seed` is the SPD's mountain number. Each file starts with `#`
 //! comments saying what it is and the command that made it.
 
+mod gears;
 mod mountain;
 pub mod nff_writer;
 mod random_spheres;
@@ -55,6 +57,8 @@ pub enum Kind {
     /// SPD `mount`: a fractal mountain of triangles and 4 glass spheres.
     #[value(alias = "mount")]
     FractalMountain,
+    /// SPD `gears`: an array of meshed gears, some of glass, over a mirror floor.
+    Gears,
     /// Spheres at random in a cube.
     RandomSpheres,
     /// Triangles at random in a cube.
@@ -65,10 +69,11 @@ pub enum Kind {
 
 impl Kind {
     /// Every kind, in the order of the table above.
-    pub const ALL: [Kind; 6] = [
+    pub const ALL: [Kind; 7] = [
         Kind::Sphereflake,
         Kind::Tetra,
         Kind::FractalMountain,
+        Kind::Gears,
         Kind::RandomSpheres,
         Kind::RandomTriangles,
         Kind::Terrain,
@@ -80,6 +85,7 @@ impl Kind {
             Kind::Sphereflake => "sphereflake",
             Kind::Tetra => "tetra",
             Kind::FractalMountain => "fractal-mountain",
+            Kind::Gears => "gears",
             Kind::RandomSpheres => "random-spheres",
             Kind::RandomTriangles => "random-triangles",
             Kind::Terrain => "terrain",
@@ -89,7 +95,7 @@ impl Kind {
     /// What `--size` means.
     pub fn size_meaning(self) -> &'static str {
         match self {
-            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain => "the SPD size factor",
+            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain | Kind::Gears => "the SPD size factor",
             Kind::RandomSpheres => "the number of spheres",
             Kind::RandomTriangles => "the number of triangles",
             Kind::Terrain => "the subdivision level",
@@ -102,6 +108,7 @@ impl Kind {
             Kind::Sphereflake => 0..=7,
             Kind::Tetra => 0..=9,
             Kind::FractalMountain => 0..=8,
+            Kind::Gears => 1..=20,
             Kind::RandomSpheres | Kind::RandomTriangles => 1..=MAX_COUNT,
             Kind::Terrain => 0..=10,
         }
@@ -110,7 +117,7 @@ impl Kind {
     /// `--size` when none is given: the classic SPD scenes, about 10⁴ primitives otherwise.
     pub fn default_size(self) -> u32 {
         match self {
-            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain => 4,
+            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain | Kind::Gears => 4,
             Kind::RandomSpheres | Kind::RandomTriangles => 10_000,
             Kind::Terrain => 6,
         }
@@ -119,7 +126,7 @@ impl Kind {
     /// The `--seed` values accepted; None for kinds that are not random.
     pub fn seeds(self) -> Option<RangeInclusive<u64>> {
         match self {
-            Kind::Sphereflake | Kind::Tetra => None,
+            Kind::Sphereflake | Kind::Tetra | Kind::Gears => None,
             Kind::FractalMountain => Some(0..=mountain::MAX_MOUNTAIN),
             Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(0..=u64::MAX),
         }
@@ -128,7 +135,7 @@ impl Kind {
     /// `--seed` when none is given.
     pub fn default_seed(self) -> Option<u64> {
         match self {
-            Kind::Sphereflake | Kind::Tetra => None,
+            Kind::Sphereflake | Kind::Tetra | Kind::Gears => None,
             Kind::FractalMountain => Some(mountain::DEFAULT_MOUNTAIN),
             Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(DEFAULT_SEED),
         }
@@ -213,6 +220,7 @@ impl Params {
             Kind::Sphereflake => sphereflake::primitive_count(self.size),
             Kind::Tetra => tetra::primitive_count(self.size),
             Kind::FractalMountain => mountain::primitive_count(self.size),
+            Kind::Gears => gears::primitive_count(self.size),
             Kind::RandomSpheres | Kind::RandomTriangles => u64::from(self.size),
             Kind::Terrain => terrain::primitive_count(self.size),
         }
@@ -243,6 +251,10 @@ impl Params {
                 "SPD `mount` (fractal mountain no. {seed}), size factor {n}: {} triangles + 4 glass spheres, 1 light",
                 count - 4
             ),
+            Kind::Gears => format!(
+                "SPD `gears`, size factor {n}: {} meshed gears (one in five glass) of 146 polygons + 1 floor polygon, 5 lights",
+                (count - 1) / 146
+            ),
             Kind::RandomSpheres => format!("{count} random spheres in [-1, 1]^3, seed {seed}, 3 lights"),
             Kind::RandomTriangles => format!("{count} random triangles in [-1, 1]^3, seed {seed}, 3 lights"),
             Kind::Terrain => {
@@ -257,7 +269,10 @@ impl Params {
         let mut nff = NffWriter::new(out);
         nff.comment(&self.title())?;
         nff.comment(&format!("Made by: {}", self.command()))?;
-        if matches!(self.kind, Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain) {
+        if matches!(
+            self.kind,
+            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain | Kind::Gears
+        ) {
             nff.comment(
                 "Written from the published description of Eric Haines' Standard Procedural Databases.",
             )?;
@@ -267,6 +282,7 @@ impl Params {
             Kind::Sphereflake => sphereflake::write(self.size, &mut nff)?,
             Kind::Tetra => tetra::write(self.size, &mut nff)?,
             Kind::FractalMountain => mountain::write(self.size, seed, &mut nff)?,
+            Kind::Gears => gears::write(self.size, &mut nff)?,
             Kind::RandomSpheres => random_spheres::write(self.size, seed, &mut nff)?,
             Kind::RandomTriangles => random_triangles::write(self.size, seed, &mut nff)?,
             Kind::Terrain => terrain::write(self.size, seed, &mut nff)?,
