@@ -126,10 +126,12 @@ fn whitted_rules_pick_the_secondary_rays() {
     assert_eq!(s.refract.unwrap().weight, 0.8);
     assert!(close(s.refract.unwrap().dir, refract(d, n, 1.0 / 1.5).unwrap()));
     assert_eq!(s.reflect.unwrap().weight, 0.1);
-    // Leaving glass at 30°: η = ior.
+    // Leaving glass at 30°: η = ior; a transmitter spawns a reflection ray even
+    // with Ks = 0 (the SPD's rule 8), of weight 0.
     let s = scatter(incoming(30.0), n, &material(0.0, 0.8, 1.5), false);
     assert!(close(s.refract.unwrap().dir, Vec3::new(0.75, -0.661_437_8, 0.0)));
-    assert!(s.reflect.is_none());
+    assert_eq!(s.reflect.unwrap().weight, 0.0);
+    assert!(close(s.reflect.unwrap().dir, reflect(incoming(30.0), n)));
     // Leaving glass at 45°: total internal reflection, only a reflection ray,
     // carrying the transmitted weight too.
     let s = scatter(d, n, &material(0.1, 0.8, 1.5), false);

@@ -1,14 +1,18 @@
 //! `stats --spd` on the SPD files generated into `scenes/` (by `raypack gen`):
 //! identical counts for the scalar and packet kernels and for the BVH and
-//! brute force, and the published
-//! counts within their stated 10% (tetra at size factor 4; the other
-//! full-size scenes take too long by brute force for a test, see the README).
+//! brute force on the small variants, and the published counts within their
+//! stated 10% on the generated full-size scenes (with the BVH: brute force
+//! takes too long on them for a test).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+use clap::ValueEnum;
 
 use raypack::accel::{Accel, BruteForce, Bvh};
 use raypack::render::spd::spd_counts;
+use raypack::render::spd_published::{Published, table};
 use raypack::render::{KernelKind, RayCounts};
+use raypack::scene::generate::{Kind, Params};
 
 fn scene_path(name: &str) -> Option<PathBuf> {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -33,6 +37,7 @@ fn small_spd_scenes_count_the_same_with_the_bvh_and_brute_force() {
         "spd_tetra_small.nff",
         "spd_balls_small.nff",
         "spd_mount_small.nff",
+        "spd_gears_small.nff",
     ] {
         let path = scene_path(name).expect("the SPD scenes are in scenes/");
         let scene = raypack::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -51,6 +56,7 @@ fn small_spd_scenes_count_the_same_with_both_kernels() {
         "spd_tetra_small.nff",
         "spd_balls_small.nff",
         "spd_mount_small.nff",
+        "spd_gears_small.nff",
     ] {
         let Some(path) = scene_path(name) else {
             continue;
@@ -65,15 +71,21 @@ fn small_spd_scenes_count_the_same_with_both_kernels() {
     }
 }
 
+/// Every SPD scene `raypack gen` writes, at its default size, counts its rays
+/// within the SPD's stated 10% of Haines' published table, count by count.
 #[test]
-fn tetra_matches_the_published_counts_within_ten_percent() {
-    let Some(path) = scene_path("spd_tetra.nff") else {
-        return;
-    };
-    let c = counts(&path, KernelKind::Packet8);
-    // Published (NFF.md): eye hits 49788, reflect 0, refract 0, shadow 46112.
-    let within = |got: u64, published: u64| (got as f64 - published as f64).abs() <= 0.1 * published as f64;
-    assert!(within(c.eye_hits, 49_788), "{c:?}");
-    assert!(within(c.shadow_rays, 46_112), "{c:?}");
-    assert_eq!((c.reflect_rays, c.refract_rays), (0, 0));
+fn generated_spd_scenes_match_the_published_counts_within_ten_percent() {
+    for name in ["balls", "gears", "mount", "tetra"] {
+        let published = Published::find(name).unwrap();
+        let kind = Kind::from_str(name, true).unwrap_or_else(|e| panic!("no generator for {name}: {e}"));
+        let params = Params::new(kind, None, None).unwrap();
+        let scene = raypack::scene::nff::parse(Path::new(name), params.to_nff().as_bytes()).unwrap();
+        assert_eq!(scene.primitives.len() as u64, published.primitives, "{name}");
+        let c = counts_with(&scene, &Bvh::new(&scene.primitives), KernelKind::Packet8);
+        let rows = published.compare(&c);
+        println!("{}", table(published, &rows));
+        for row in rows {
+            assert!(row.within_tolerance(), "{name}: {row:?}");
+        }
+    }
 }

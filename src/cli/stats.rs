@@ -1,9 +1,10 @@
 //! `raypack stats SCENE --spd`: a scene's ray counts under the SPD's test
 //! procedure, as one JSON object on stdout; the time and the traversal work it
 //! took go to stderr. (`--spd` names the procedure; it is the only one so far,
-//! so the flag is required.)
+//! so the flag is required.) With `--compare`, stdout is instead a table of the
+//! counts against the published ones ([`crate::render::spd_published`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args as ClapArgs;
@@ -14,6 +15,7 @@ use crate::cli::render::{load_scene, thread_pool};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, WithAccel, with_accel};
 use crate::render::spd::{spd_counts, spd_counts_with_traversal};
+use crate::render::spd_published::{self, Published};
 use crate::render::{KernelKind, RayCounts};
 use crate::scene::Scene;
 
@@ -34,6 +36,12 @@ pub struct Args {
     /// Acceleration structure.
     #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
     pub accel: AccelKind,
+    /// Print the counts against the SPD's published ones (Haines; Havran & Sixta
+    /// where at hand) with the deviation of each, instead of JSON. The SPD scene is
+    /// guessed from the file name (`spd_gears.nff`, `gen:gears`); `--compare=NAME`
+    /// names it (balls, gears, mount, rings, teapot, tetra, tree).
+    #[arg(long, num_args = 0..=1, require_equals = true, value_name = "NAME")]
+    pub compare: Option<Option<String>>,
 }
 
 /// SPD counts with the setup and trace time and the traversal work they took
@@ -68,6 +76,14 @@ impl WithAccel for Spd<'_> {
 /// Run `stats`.
 pub fn run(args: Args) -> CliResult {
     let (scene, _) = load_scene(&args.scene)?;
+    let published = match &args.compare {
+        Some(name) => Some(published_for(
+            &args.scene,
+            name.as_deref(),
+            scene.primitives.len(),
+        )?),
+        None => None,
+    };
     let pool = thread_pool(args.threads)?;
     let job = Spd {
         scene: &scene,
@@ -87,6 +103,50 @@ pub fn run(args: Args) -> CliResult {
     if let Some(t) = traversal {
         eprintln!("spd: traversal, counted in this run: {}", t.caption());
     }
-    println!("{}", serde_json::to_string(&counts).map_err(anyhow::Error::from)?);
+    match published {
+        Some(p) => print!("{}", spd_published::table(p, &p.compare(&counts))),
+        None => println!("{}", serde_json::to_string(&counts).map_err(anyhow::Error::from)?),
+    }
     Ok(())
+}
+
+/// The published counts to compare `scene` (of `primitives` primitives) with:
+/// those of the SPD scene `name`, or of the one its file name says. Counts are
+/// comparable only at the published size, so the primitive count must match.
+fn published_for(
+    scene: &Path,
+    name: Option<&str>,
+    primitives: usize,
+) -> Result<&'static Published, CliError> {
+    let names = || {
+        spd_published::PUBLISHED
+            .iter()
+            .map(|p| p.name)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let published = match name {
+        Some(name) => Published::find(name).ok_or_else(|| {
+            CliError::BadInput(anyhow::anyhow!(
+                "--compare={name}: not an SPD scene (one of {})",
+                names()
+            ))
+        })?,
+        None => Published::guess(&scene.to_string_lossy()).ok_or_else(|| {
+            CliError::BadInput(anyhow::anyhow!(
+                "--compare: cannot tell which SPD scene {} is from its name; say --compare=NAME (one of {})",
+                scene.display(),
+                names()
+            ))
+        })?,
+    };
+    if primitives as u64 != published.primitives {
+        return Err(CliError::BadInput(anyhow::anyhow!(
+            "--compare: {} has {primitives} primitives, the published SPD {} has {}: its counts apply only at the default size",
+            scene.display(),
+            published.name,
+            published.primitives
+        )));
+    }
+    Ok(published)
 }

@@ -29,6 +29,7 @@ pub mod report;
 pub mod settings;
 pub mod shade;
 pub mod spd;
+pub mod spd_published;
 pub mod stats;
 pub mod surface;
 pub mod text;

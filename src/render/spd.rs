@@ -2,9 +2,10 @@
 //! (E. Haines, IEEE CG&A 7(11), 1987; the rules in `shared/reference/NFF.md`):
 //! a 512×512 image with eye rays through the pixel *corners* (513×513 rays),
 //! Whitted tracing to depth 5 (the eye ray is depth 1), a reflection ray at
-//! every hit on Ks > 0, a refraction ray at every hit on T > 0 (only the
-//! reflection on total internal reflection), no shadow ray where the normal
-//! faces away from the light, no adaptive depth cut-off.
+//! every hit on Ks > 0 or T > 0, a refraction ray at every hit on T > 0 (only
+//! the reflection on total internal reflection), no shadow ray where the normal
+//! faces away from the light, no adaptive depth cut-off. The published counts
+//! and the comparison with them are in [`crate::render::spd_published`].
 //!
 //! The counts are the engine's external correctness oracle: for SPD-generated
 //! files they should lie within 10% of the published figures, and they are the

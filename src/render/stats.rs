@@ -13,7 +13,7 @@ pub struct RayCounts {
     pub eye_rays: u64,
     /// Primary rays that hit a primitive.
     pub eye_hits: u64,
-    /// Mirror reflection rays spawned (hits on Ks > 0, and total internal reflections).
+    /// Mirror reflection rays spawned (hits on Ks > 0 or T > 0, as the SPD counts them).
     pub reflect_rays: u64,
     /// Refraction rays spawned (hits on T > 0 without total internal reflection).
     pub refract_rays: u64,
