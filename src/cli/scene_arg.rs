@@ -1,6 +1,6 @@
 //! The SCENE argument of every subcommand: a scene file (read by
 //! [`scene::load`]), or `gen:NAME[:N[:SEED]]` for a scene generated in code
-//! ([`test_scenes`]).
+//! ([`test_scenes`], or any kind of `raypack gen`, SPD scenes included).
 
 use std::path::Path;
 
