@@ -1,7 +1,7 @@
 //! Scene generators: exact primitive counts per size, determinism per seed,
-//! well-formed NFF (checked here entity by entity until the NFF reader lands),
-//! the SPD scenes' published eye-ray coverage, the committed `scenes/` files,
-//! and the `raypack gen` command line.
+//! well-formed NFF (checked here entity by entity, and read back by raypack's
+//! NFF reader), the SPD scenes' published eye-ray coverage, the committed
+//! `scenes/` files, and the `raypack gen` command line.
 
 use std::path::Path;
 use std::process::Command;
@@ -9,9 +9,10 @@ use std::process::Command;
 use glam::Vec3;
 use raypack::accel::{Accel, BruteForce};
 use raypack::camera::Camera;
-use raypack::geometry::{Polygon, Primitive, Sphere, Triangle};
+use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::packet::RayPacket8;
-use raypack::scene::generate::{Kind, Params};
+use raypack::scene::generate::{GenerateError, Kind, Params};
+use raypack::scene::{Scene, nff};
 use raypack::simd::SimdFloat;
 
 /// The camera of a `v` entity.
@@ -32,6 +33,10 @@ struct Nff {
     surfaces: usize,
     spheres: Vec<(Vec3, f32)>,
     polygons: Vec<Vec<Vec3>>,
+    /// Cones and cylinders: base, base radius, apex, apex radius.
+    cones: Vec<(Vec3, f32, Vec3, f32)>,
+    /// Polygonal patches: vertices with their unit normals.
+    patches: Vec<Vec<(Vec3, Vec3)>>,
     comments: Vec<String>,
 }
 
@@ -65,7 +70,7 @@ fn parse_nff(text: &str) -> Nff {
             continue;
         }
         let fields: Vec<&str> = text.split_whitespace().collect();
-        let primitives = nff.spheres.len() + nff.polygons.len();
+        let primitives = nff.spheres.len() + nff.polygons.len() + nff.cones.len() + nff.patches.len();
         match fields[0] {
             "v" => {
                 assert!(
@@ -109,8 +114,10 @@ fn parse_nff(text: &str) -> Nff {
             }
             "f" => {
                 let f = numbers(8, line, &fields[1..]);
+                // The index of refraction may be 0 where nothing transmits, as
+                // the SPD writes it for rings, tree and teapot.
                 assert!(
-                    f[3] >= 0.0 && f[4] >= 0.0 && f[5] > 0.0 && f[7] > 0.0,
+                    f[3] >= 0.0 && f[4] >= 0.0 && f[5] > 0.0 && f[7] >= 0.0 && (f[6] == 0.0 || f[7] > 0.0),
                     "line {line}: {f:?}"
                 );
                 nff.surfaces += 1;
@@ -132,6 +139,34 @@ fn parse_nff(text: &str) -> Nff {
                     })
                     .collect();
                 nff.polygons.push(vertices);
+            }
+            "pp" => {
+                assert!(nff.surfaces > 0, "line {line}: a primitive before any surface");
+                let n: usize = fields[1].parse().unwrap();
+                assert!(n >= 3 && fields.len() == 2, "line {line}");
+                let corners = (0..n)
+                    .map(|_| {
+                        let (l, t) = lines.next().expect("patch cut short");
+                        let v = numbers(6, l, &t.split_whitespace().collect::<Vec<_>>());
+                        let normal = vec3(&v[3..]);
+                        assert!((normal.length() - 1.0).abs() < 1e-4, "line {l}: normal {normal}");
+                        (vec3(&v), normal)
+                    })
+                    .collect();
+                nff.patches.push(corners);
+            }
+            "c" => {
+                assert!(nff.surfaces > 0, "line {line}: a primitive before any surface");
+                assert_eq!(fields.len(), 1, "line {line}");
+                let mut end = || {
+                    let (l, t) = lines.next().expect("cone cut short");
+                    let v = numbers(4, l, &t.split_whitespace().collect::<Vec<_>>());
+                    assert!(v[3] >= 0.0, "line {l}: radius");
+                    (vec3(&v), v[3])
+                };
+                let ((base, base_radius), (apex, apex_radius)) = (end(), end());
+                assert!(base != apex && base_radius + apex_radius > 0.0, "line {line}");
+                nff.cones.push((base, base_radius, apex, apex_radius));
             }
             other => panic!("line {line}: unexpected entity `{other}`"),
         }
@@ -193,6 +228,107 @@ fn the_classic_sizes_match_the_published_counts() {
     assert_eq!(total(Kind::Sphereflake), 7382);
     assert_eq!(total(Kind::FractalMountain), 8196);
     assert_eq!(total(Kind::Tetra), 4096);
+}
+
+/// Rings, tree and teapot at their defaults hold the SPD 3.4 README's
+/// primitives, of the kinds it lists, as raypack's reader sees them.
+#[test]
+fn rings_tree_and_teapot_have_the_published_primitives() {
+    use PrimitiveKind::{Cone, Polygon, Sphere, Triangle};
+    let expected = [
+        (
+            Kind::Rings,
+            8401,
+            [(Cone, 4200), (Sphere, 4200), (Polygon, 1), (Triangle, 0)],
+            3,
+        ),
+        (
+            Kind::Tree,
+            8191,
+            [(Cone, 4095), (Sphere, 4095), (Polygon, 1), (Triangle, 0)],
+            7,
+        ),
+        (
+            Kind::Teapot,
+            9264,
+            [(Cone, 0), (Sphere, 0), (Polygon, 144), (Triangle, 9120)],
+            2,
+        ),
+    ];
+    for (kind, total, kinds, lights) in expected {
+        let params = Params::new(kind, None, None).unwrap();
+        let scene = read(&params.to_nff());
+        assert_eq!(scene.primitives.len(), total, "{kind:?}");
+        assert_eq!(params.primitive_count(), total as u64, "{kind:?}");
+        for (k, n) in kinds {
+            assert_eq!(count_of(&scene, k), n, "{kind:?}: {k:?}");
+        }
+        assert_eq!(scene.lights.len(), lights, "{kind:?}");
+        let camera = scene.camera.expect("a camera");
+        assert_eq!((camera.width, camera.height), (512, 512));
+        assert!(camera.camera().is_ok(), "{kind:?}");
+    }
+    // Every teapot triangle is smooth shaded.
+    let teapot = read(&Params::new(Kind::Teapot, None, None).unwrap().to_nff());
+    assert_eq!(teapot.vertex_normals.len(), 9120);
+}
+
+#[test]
+fn rings_tree_and_teapot_small_sizes_and_bad_sizes() {
+    for size in 1..=4 {
+        for (kind, count) in [
+            (Kind::Rings, 10 * size * (size + 1) * (2 * size + 1) + 1),
+            (Kind::Tree, 2 * ((1 << (size + 1)) - 1) + 1),
+            (Kind::Teapot, 64 * size * size - 8 * size + size * size),
+        ] {
+            let text = nff_of(kind, size as u32, None);
+            let nff = parse_nff(&text);
+            let written = nff.spheres.len() + nff.polygons.len() + nff.cones.len() + nff.patches.len();
+            assert_eq!(written, count, "{kind:?} {size}");
+            assert_eq!(read(&text).primitives.len(), count, "{kind:?} {size}");
+        }
+    }
+    // The smallest tree is the trunk: one cone, its sphere, the field.
+    let trunk = parse_nff(&nff_of(Kind::Tree, 0, None));
+    assert_eq!(
+        (trunk.cones.len(), trunk.spheres.len(), trunk.polygons.len()),
+        (1, 1, 1)
+    );
+    let (base, base_radius, apex, apex_radius) = trunk.cones[0];
+    assert_eq!((base, apex), (Vec3::ZERO, Vec3::Z));
+    assert!((base_radius - 0.15).abs() < 1e-6 && (apex_radius - 0.1005).abs() < 1e-6);
+    assert_eq!(trunk.spheres[0], (Vec3::Z, apex_radius));
+    // One rings object: 6 rings of 5 cylinders, all of the published radius.
+    let rings = parse_nff(&nff_of(Kind::Rings, 1, None));
+    assert_eq!(rings.surfaces, 1 + 6);
+    assert!(rings.cones.iter().all(|c| c.1 == 0.07412 && c.3 == 0.07412));
+    // The teapot's triangles stay on its patches' hull, above the board.
+    let teapot = parse_nff(&nff_of(Kind::Teapot, 3, None));
+    for corner in teapot.patches.iter().flatten() {
+        assert!(
+            corner.0.z >= 0.0 && corner.0.z <= 3.15 + 1e-5 && corner.0.x.abs() <= 3.525,
+            "{corner:?}"
+        );
+    }
+    for (kind, bad) in [
+        (Kind::Rings, 0),
+        (Kind::Rings, 51),
+        (Kind::Tree, 21),
+        (Kind::Teapot, 0),
+        (Kind::Teapot, 201),
+    ] {
+        assert!(
+            matches!(
+                Params::new(kind, Some(bad), None),
+                Err(GenerateError::SizeOutOfRange { .. })
+            ),
+            "{kind:?} {bad}"
+        );
+        assert_eq!(
+            Params::new(kind, None, Some(1)),
+            Err(GenerateError::NotRandom(kind.name()))
+        );
+    }
 }
 
 #[test]
@@ -288,17 +424,14 @@ fn mountain_covers_its_square_without_cracks() {
     }
 }
 
-/// Primitives of an NFF file, as the engine's kernels see them.
-fn primitives(nff: &Nff) -> Vec<Primitive> {
-    let spheres = nff
-        .spheres
-        .iter()
-        .map(|&(c, r)| Primitive::Sphere(Sphere::new(c, r)));
-    let polygons = nff.polygons.iter().map(|p| match p[..] {
-        [a, b, c] => Primitive::Triangle(Triangle::new(a, b, c)),
-        _ => Primitive::Polygon(Polygon::new(p).unwrap()),
-    });
-    spheres.chain(polygons).collect()
+/// An NFF text read by raypack's own reader.
+fn read(text: &str) -> Scene {
+    nff::parse(Path::new("generated.nff"), text.as_bytes()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// How many primitives of `kind` the scene holds.
+fn count_of(scene: &Scene, kind: PrimitiveKind) -> usize {
+    scene.primitives.iter().filter(|p| p.kind() == kind).count()
 }
 
 /// Fraction of the SPD's eye rays (through pixel corners, 513 × 513 at 512²)
@@ -310,7 +443,7 @@ fn eye_hit_fraction(text: &str, stride: usize) -> f64 {
     // NFF's angle spans the outer pixel rows' centres, i.e. the corner rays:
     // corner coordinates 0 and `res` of a `res`-wide image span exactly fov.
     let camera = Camera::new(view.from, view.at, view.up, view.angle, view.angle, res, res).unwrap();
-    let prims = primitives(&nff);
+    let prims: Vec<Primitive> = read(text).primitives;
     let accel = BruteForce::new(&prims);
     let rays: Vec<_> = (0..=res as usize)
         .step_by(stride)
@@ -337,6 +470,9 @@ fn spd_scenes_cover_the_published_share_of_the_image() {
         (Kind::Sphereflake, 263_169.0),
         (Kind::Tetra, 49_788.0),
         (Kind::FractalMountain, 173_125.0),
+        (Kind::Rings, 263_169.0),
+        (Kind::Tree, 169_836.0),
+        (Kind::Teapot, 161_120.0),
     ];
     for (kind, hits) in published {
         let expected = hits / 263_169.0;
@@ -364,6 +500,9 @@ fn committed_scenes_are_the_generators_output() {
         ("spd_tetra_small.nff", Kind::Tetra, 1),
         ("spd_mount_small.nff", Kind::FractalMountain, 1),
         ("spd_gears_small.nff", Kind::Gears, 1),
+        ("spd_rings_small.nff", Kind::Rings, 1),
+        ("spd_tree_small.nff", Kind::Tree, 3),
+        ("spd_teapot_small.nff", Kind::Teapot, 2),
     ];
     for (name, kind, size) in files {
         let text = std::fs::read_to_string(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -429,6 +568,8 @@ fn cli_writes_stdout_or_a_file_and_refuses_bad_input_with_exit_2() {
             vec!["gen", "fractal-mountain", "--seed", "99999999"],
             "--seed 99999999 is out of range",
         ),
+        (vec!["gen", "rings", "--size", "0"], "--size 0 is out of range"),
+        (vec!["gen", "teapot", "--seed", "1"], "teapot is not random"),
     ] {
         let out = raypack(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

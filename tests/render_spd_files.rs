@@ -75,7 +75,7 @@ fn small_spd_scenes_count_the_same_with_both_kernels() {
 /// within the SPD's stated 10% of Haines' published table, count by count.
 #[test]
 fn generated_spd_scenes_match_the_published_counts_within_ten_percent() {
-    for name in ["balls", "gears", "mount", "tetra"] {
+    for name in ["balls", "gears", "mount", "rings", "teapot", "tetra", "tree"] {
         let published = Published::find(name).unwrap();
         let kind = Kind::from_str(name, true).unwrap_or_else(|e| panic!("no generator for {name}: {e}"));
         let params = Params::new(kind, None, None).unwrap();

@@ -17,9 +17,10 @@ pub struct GenArgs {
     /// What to generate.
     #[arg(value_enum)]
     pub kind: Kind,
-    /// Size: the SPD size factor (sphereflake, tetra, fractal-mountain; 4 is the
-    /// classic scene), the primitive count (random-spheres, random-triangles) or
-    /// the subdivision level (terrain: 2·4^N triangles).
+    /// Size: the SPD size factor (sphereflake, tetra, fractal-mountain: 4 is the
+    /// classic scene; rings 7, tree 11, teapot 12 give the SPD's published
+    /// counts), the primitive count (random-spheres, random-triangles) or the
+    /// subdivision level (terrain: 2·4^N triangles).
     #[arg(long)]
     pub size: Option<u32>,
     /// Seed of random-spheres, random-triangles and terrain (default 1); the

@@ -4,11 +4,15 @@
 //! everywhere), a sphereflake, and a mix of all of them. Each comes with a
 //! camera that frames it.
 
+use std::path::Path;
+
+use clap::ValueEnum;
 use glam::{Quat, Vec3};
 
 use crate::bench::scenes;
 use crate::geometry::{Primitive, Sphere, Triangle};
-use crate::scene::{CameraSpec, Material, Scene};
+use crate::scene::generate::{Kind, Params};
+use crate::scene::{CameraSpec, Material, Scene, nff};
 
 /// The generated scenes, by name.
 pub const NAMES: [&str; 8] = [
@@ -51,37 +55,56 @@ pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
     Some(scene_of(format!("generated:{name}:{n}:{seed}"), prims))
 }
 
-/// The scene named by a command-line argument `gen:NAME[:N[:SEED]]` (N
-/// primitives, 1000 by default; seed 1 by default); None when `spec` does not
-/// start with `gen:`.
+/// The scene named by a command-line argument `gen:NAME[:N[:SEED]]`; None when
+/// `spec` does not start with `gen:`. NAME is one of [`NAMES`] (N primitives,
+/// 1000 by default; seed 1 by default), or else a kind of `raypack gen`, as
+/// [`Kind`] names it (N its `--size`, SEED its `--seed`, each the kind's default
+/// when left out), generated as NFF and read back; so `gen:sphereflake` is the
+/// scene above and `gen:balls` the SPD's.
 pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
     let rest = spec.strip_prefix("gen:")?;
     let mut parts = rest.split(':');
     let name = parts.next().unwrap_or_default();
-    let number = |part: Option<&str>, default: u64, what: &str| match part {
-        None => Ok(default),
+    let listed = NAMES.contains(&name);
+    let number = |part: Option<&str>, what: &str| match part {
+        None => Ok(None),
         Some(p) => p
             .parse::<u64>()
+            .map(Some)
             .map_err(|_| format!("{spec}: {what} must be a whole number, got `{p}`")),
     };
     Some((|| {
-        let n = number(parts.next(), 1000, "the primitive count")?;
-        let seed = number(parts.next(), 1, "the seed")?;
+        let n = number(
+            parts.next(),
+            if listed { "the primitive count" } else { "the size" },
+        )?;
+        let seed = number(parts.next(), "the seed")?;
         if parts.next().is_some() {
             return Err(format!("{spec}: expected gen:NAME[:N[:SEED]]"));
         }
-        by_name(name, n as usize, seed).ok_or_else(|| {
-            let kinds: Vec<_> = crate::scene::generate::Kind::ALL
-                .iter()
-                .map(|k| k.name())
-                .collect();
+        if listed {
+            return Ok(by_name(name, n.unwrap_or(1000) as usize, seed.unwrap_or(1)).expect("a listed name"));
+        }
+        let kind = Kind::from_str(name, true).map_err(|_| {
+            let kinds: Vec<_> = Kind::ALL.iter().map(|k| k.name()).collect();
             format!(
-                "{spec}: unknown generated scene `{name}` (one of {}; or a `raypack gen` kind: {})",
+                "{spec}: unknown generated scene `{name}` (one of {}, or of `raypack gen`: {})",
                 NAMES.join(", "),
                 kinds.join(", ")
             )
-        })
+        })?;
+        generated_nff(spec, kind, n, seed)
     })())
+}
+
+/// The scene `raypack gen` writes for `kind`, `size` and `seed`, read back
+/// through the NFF reader.
+fn generated_nff(spec: &str, kind: Kind, size: Option<u64>, seed: Option<u64>) -> Result<Scene, String> {
+    let size = size
+        .map(|n| u32::try_from(n).map_err(|_| format!("{spec}: the size {n} is too large")))
+        .transpose()?;
+    let params = Params::new(kind, size, seed).map_err(|e| format!("{spec}: {e}"))?;
+    nff::parse(Path::new(spec), params.to_nff().as_bytes()).map_err(|e| format!("{spec}: {e}"))
 }
 
 /// A scene of `prims`, one default material, and a camera framing them.
@@ -197,6 +220,28 @@ mod tests {
         assert!(err("gen:cubes").contains("unknown generated scene `cubes`"));
         assert!(err("gen:spheres:many").contains("the primitive count must be a whole number"));
         assert!(err("gen:spheres:5:1:2").contains("expected gen:NAME[:N[:SEED]]"));
+    }
+
+    #[test]
+    fn specs_also_name_the_kinds_of_raypack_gen() {
+        // Size and seed as `raypack gen` takes them, defaults included.
+        let rings = from_spec("gen:rings:1").unwrap().unwrap();
+        assert_eq!(rings.primitives.len(), 61);
+        assert!(rings.camera.is_some() && rings.lights.len() == 3);
+        let tetra = from_spec("gen:tetra").unwrap().unwrap();
+        assert_eq!(tetra.primitives.len(), 4096);
+        let mount = from_spec("gen:mount:1:4").unwrap().unwrap();
+        assert_eq!(mount.primitives.len(), 132);
+        // The listed names come first: gen:sphereflake is the framed one above.
+        assert_eq!(
+            from_spec("gen:sphereflake:200").unwrap().unwrap().primitives,
+            by_name("sphereflake", 200, 1).unwrap().primitives
+        );
+        let err = |spec: &str| from_spec(spec).unwrap().unwrap_err();
+        assert!(err("gen:tree:99").contains("--size 99 is out of range"));
+        assert!(err("gen:tree:3:2").contains("tree is not random"));
+        assert!(err("gen:tree:x").contains("the size must be a whole number"));
+        assert!(err("gen:cubes").contains("or of `raypack gen`: sphereflake, tetra"));
     }
 
     #[test]

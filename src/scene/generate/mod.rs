@@ -1,8 +1,8 @@
-//! Scene generators, written as NFF text: three of Eric Haines' Standard
+//! Scene generators, written as NFF text: six of Eric Haines' Standard
 //! Procedural Databases ("A Proposal for Standard Graphics Environments", IEEE
-//! CG&A 7(11), 1987), written here from their published descriptions, so their
-//! published ray statistics apply; and three families that scale smoothly from
-//! 10² to 10⁶ primitives of one known kind.
+//! CG&A 7(11), 1987; `teapot` from SPD 3.0, 1990), written here from their
+//! published descriptions, so their published ray statistics apply; and three
+//! families that scale smoothly from 10² to 10⁶ primitives of one known kind.
 //!
 //! | kind | `--size` means | default | primitives |
 //! | --- | --- | --- | --- |
@@ -10,12 +10,17 @@
 //! | `tetra` | SPD size factor | 4 | `4^(n+2)` triangles (4096) |
 //! | `fractal-mountain` (SPD `mount`) | SPD size factor | 4 | `2·4^(n+2)` triangles + 4 spheres (8196) |
 //! | `gears` | SPD size factor | 4 | `146·n³` polygons + the floor (9345) |
+//! | `rings` | SPD size factor | 7 | `5n(n+1)(2n+1)` cylinders and as many spheres + 1 polygon (8401) |
+//! | `tree` | SPD size factor | 11 | `2^(n+1) − 1` cones and as many spheres + 1 polygon (8191) |
+//! | `teapot` | SPD size factor | 12 | `64n² − 8n` smooth triangles + `n²` polygons (9264) |
 //! | `random-spheres` | sphere count | 10000 | `n` spheres |
 //! | `random-triangles` | triangle count | 10000 | `n` triangles |
 //! | `terrain` | subdivision level | 6 | `2·4^n` triangles (8192) |
 //!
-//! The SPD size factors follow the 1987 distribution, where 4 is the classic
-//! scene of every database (SPD 3.x renumbered tetra and mount: its 6 is this 4).
+//! The SPD size factors of balls, tetra and mount follow the 1987 distribution,
+//! where 4 is the classic scene (SPD 3.x renumbered tetra and mount: its 6 is
+//! this 4); rings, tree and teapot keep the SPD's own factors, whose defaults
+//! above give the primitive counts of its published statistics.
 //! The random kinds and the terrain are seeded with [`crate::rng::Rng`]; the
 //! mountain's `--seed` is the SPD's mountain number. Each file starts with `#`
 //! comments saying what it is and the command that made it.
@@ -25,10 +30,13 @@ mod mountain;
 pub mod nff_writer;
 mod random_spheres;
 mod random_triangles;
+mod rings;
 mod sphereflake;
 mod studio;
+mod teapot;
 mod terrain;
 mod tetra;
+mod tree;
 
 use std::io::{self, Write};
 use std::ops::RangeInclusive;
@@ -59,6 +67,12 @@ pub enum Kind {
     FractalMountain,
     /// SPD `gears`: an array of meshed gears, some of glass, over a mirror floor.
     Gears,
+    /// SPD `rings`: a pyramid of objects of 6 pentagonal rings of cylinders and spheres.
+    Rings,
+    /// SPD `tree`: a branching tree of cones and spheres over a field.
+    Tree,
+    /// SPD `teapot`: the Newell teapot's patches as smooth triangles on a checkerboard.
+    Teapot,
     /// Spheres at random in a cube.
     RandomSpheres,
     /// Triangles at random in a cube.
@@ -69,11 +83,14 @@ pub enum Kind {
 
 impl Kind {
     /// Every kind, in the order of the table above.
-    pub const ALL: [Kind; 7] = [
+    pub const ALL: [Kind; 10] = [
         Kind::Sphereflake,
         Kind::Tetra,
         Kind::FractalMountain,
         Kind::Gears,
+        Kind::Rings,
+        Kind::Tree,
+        Kind::Teapot,
         Kind::RandomSpheres,
         Kind::RandomTriangles,
         Kind::Terrain,
@@ -86,6 +103,9 @@ impl Kind {
             Kind::Tetra => "tetra",
             Kind::FractalMountain => "fractal-mountain",
             Kind::Gears => "gears",
+            Kind::Rings => "rings",
+            Kind::Tree => "tree",
+            Kind::Teapot => "teapot",
             Kind::RandomSpheres => "random-spheres",
             Kind::RandomTriangles => "random-triangles",
             Kind::Terrain => "terrain",
@@ -95,7 +115,13 @@ impl Kind {
     /// What `--size` means.
     pub fn size_meaning(self) -> &'static str {
         match self {
-            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain | Kind::Gears => "the SPD size factor",
+            Kind::Sphereflake
+            | Kind::Tetra
+            | Kind::FractalMountain
+            | Kind::Gears
+            | Kind::Rings
+            | Kind::Tree
+            | Kind::Teapot => "the SPD size factor",
             Kind::RandomSpheres => "the number of spheres",
             Kind::RandomTriangles => "the number of triangles",
             Kind::Terrain => "the subdivision level",
@@ -109,6 +135,9 @@ impl Kind {
             Kind::Tetra => 0..=9,
             Kind::FractalMountain => 0..=8,
             Kind::Gears => 1..=20,
+            Kind::Rings => 1..=50,
+            Kind::Tree => 0..=20,
+            Kind::Teapot => 1..=200,
             Kind::RandomSpheres | Kind::RandomTriangles => 1..=MAX_COUNT,
             Kind::Terrain => 0..=10,
         }
@@ -118,6 +147,9 @@ impl Kind {
     pub fn default_size(self) -> u32 {
         match self {
             Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain | Kind::Gears => 4,
+            Kind::Rings => 7,
+            Kind::Tree => 11,
+            Kind::Teapot => 12,
             Kind::RandomSpheres | Kind::RandomTriangles => 10_000,
             Kind::Terrain => 6,
         }
@@ -126,7 +158,7 @@ impl Kind {
     /// The `--seed` values accepted; None for kinds that are not random.
     pub fn seeds(self) -> Option<RangeInclusive<u64>> {
         match self {
-            Kind::Sphereflake | Kind::Tetra | Kind::Gears => None,
+            Kind::Sphereflake | Kind::Tetra | Kind::Gears | Kind::Rings | Kind::Tree | Kind::Teapot => None,
             Kind::FractalMountain => Some(0..=mountain::MAX_MOUNTAIN),
             Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(0..=u64::MAX),
         }
@@ -135,7 +167,7 @@ impl Kind {
     /// `--seed` when none is given.
     pub fn default_seed(self) -> Option<u64> {
         match self {
-            Kind::Sphereflake | Kind::Tetra | Kind::Gears => None,
+            Kind::Sphereflake | Kind::Tetra | Kind::Gears | Kind::Rings | Kind::Tree | Kind::Teapot => None,
             Kind::FractalMountain => Some(mountain::DEFAULT_MOUNTAIN),
             Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(DEFAULT_SEED),
         }
@@ -221,6 +253,9 @@ impl Params {
             Kind::Tetra => tetra::primitive_count(self.size),
             Kind::FractalMountain => mountain::primitive_count(self.size),
             Kind::Gears => gears::primitive_count(self.size),
+            Kind::Rings => rings::primitive_count(self.size),
+            Kind::Tree => tree::primitive_count(self.size),
+            Kind::Teapot => teapot::primitive_count(self.size),
             Kind::RandomSpheres | Kind::RandomTriangles => u64::from(self.size),
             Kind::Terrain => terrain::primitive_count(self.size),
         }
@@ -255,6 +290,19 @@ impl Params {
                 "SPD `gears`, size factor {n}: {} meshed gears (one in five glass) of 146 polygons + 1 floor polygon, 5 lights",
                 (count - 1) / 146
             ),
+            Kind::Rings => format!(
+                "SPD `rings`, size factor {n}: {} cylinders + as many spheres (6 rings of 5 per object) + 1 wall polygon, 3 lights",
+                (count - 1) / 2
+            ),
+            Kind::Tree => format!(
+                "SPD `tree`, size factor {n}: {} branches (cones + spheres) + 1 field polygon, 7 lights",
+                (count - 1) / 2
+            ),
+            Kind::Teapot => format!(
+                "SPD `teapot`, size factor {n}: {} smooth triangles + {} checkerboard polygons, 2 lights",
+                count - u64::from(n * n),
+                n * n
+            ),
             Kind::RandomSpheres => format!("{count} random spheres in [-1, 1]^3, seed {seed}, 3 lights"),
             Kind::RandomTriangles => format!("{count} random triangles in [-1, 1]^3, seed {seed}, 3 lights"),
             Kind::Terrain => {
@@ -271,7 +319,13 @@ impl Params {
         nff.comment(&format!("Made by: {}", self.command()))?;
         if matches!(
             self.kind,
-            Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain | Kind::Gears
+            Kind::Sphereflake
+                | Kind::Tetra
+                | Kind::FractalMountain
+                | Kind::Gears
+                | Kind::Rings
+                | Kind::Tree
+                | Kind::Teapot
         ) {
             nff.comment(
                 "Written from the published description of Eric Haines' Standard Procedural Databases.",
@@ -283,6 +337,9 @@ impl Params {
             Kind::Tetra => tetra::write(self.size, &mut nff)?,
             Kind::FractalMountain => mountain::write(self.size, seed, &mut nff)?,
             Kind::Gears => gears::write(self.size, &mut nff)?,
+            Kind::Rings => rings::write(self.size, &mut nff)?,
+            Kind::Tree => tree::write(self.size, &mut nff)?,
+            Kind::Teapot => teapot::write(self.size, &mut nff)?,
             Kind::RandomSpheres => random_spheres::write(self.size, seed, &mut nff)?,
             Kind::RandomTriangles => random_triangles::write(self.size, seed, &mut nff)?,
             Kind::Terrain => terrain::write(self.size, seed, &mut nff)?,
@@ -317,6 +374,14 @@ mod tests {
             Params::new(Kind::Tetra, None, None).unwrap().primitive_count(),
             4096
         );
+        // SPD 3.4's published counts for rings, tree and teapot.
+        for (kind, count) in [(Kind::Rings, 8401), (Kind::Tree, 8191), (Kind::Teapot, 9264)] {
+            assert_eq!(
+                Params::new(kind, None, None).unwrap().primitive_count(),
+                count,
+                "{kind:?}"
+            );
+        }
     }
 
     #[test]
