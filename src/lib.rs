@@ -3,13 +3,14 @@
 //! Rays travel in 8-wide structure-of-arrays packets ([`packet::RayPacket8`])
 //! through SIMD kernels, and every packet kernel has a scalar twin in the same
 //! file that it is tested against lane by lane. The mathematics follows the
-//! lecture in `shared/reference/LECTURE.md`: the camera ([`camera`]), planes,
+//! lecture in `docs/lecture.md`: the camera ([`camera`]), planes,
 //! triangles, polygons, spheres and transformed objects ([`geometry`]).
 
 // Every public item says what it is (docs are part of the API).
 #![warn(missing_docs)]
 
 pub mod accel;
+pub mod atomic_file;
 pub mod bench;
 pub mod bounds;
 pub mod camera;
@@ -17,6 +18,7 @@ pub mod cli;
 pub mod compare;
 #[cfg(feature = "embree")]
 pub mod embree;
+pub mod engine;
 pub mod geometry;
 pub mod huge_pages;
 pub mod packet;

@@ -5,36 +5,36 @@
 
 mod bvh_support;
 
-use raypack::bench::scenes;
+use raypack::scene::generate::random;
 
 #[test]
 fn spheres() {
-    bvh_support::check_scene("spheres", &scenes::random_spheres(1000, 1), 101);
+    bvh_support::check_scene("spheres", &random::random_spheres(1000, 1), 101);
 }
 
 #[test]
 fn triangles() {
-    bvh_support::check_scene("triangles", &scenes::random_triangles(1000, 2), 102);
+    bvh_support::check_scene("triangles", &random::random_triangles(1000, 2), 102);
 }
 
 #[test]
 fn polygons() {
-    bvh_support::check_scene("polygons", &scenes::random_polygons(1000, 3), 103);
+    bvh_support::check_scene("polygons", &random::random_polygons(1000, 3), 103);
 }
 
 #[test]
 fn transformed() {
-    bvh_support::check_scene("transformed", &scenes::random_transformed(600, 4), 104);
+    bvh_support::check_scene("transformed", &random::random_transformed(600, 4), 104);
 }
 
 #[test]
 fn mixed_with_planes() {
-    bvh_support::check_scene("mixed", &scenes::random_mixed(1000, 5), 105);
+    bvh_support::check_scene("mixed", &random::random_mixed(1000, 5), 105);
 }
 
 #[test]
 fn closed_mesh() {
     // Shared edges and vertices everywhere: ties between neighbours must resolve
     // to the lower index, as in brute force.
-    bvh_support::check_scene("mesh", &scenes::bumpy_sphere(2000, 6), 106);
+    bvh_support::check_scene("mesh", &random::bumpy_sphere(2000, 6), 106);
 }

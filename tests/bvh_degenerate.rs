@@ -8,12 +8,12 @@ mod bvh_support;
 use glam::{Mat4, Vec3};
 use raypack::accel::bvh::{BuildOptions, MAX_DEPTH};
 use raypack::accel::{Accel, BruteForce, Bvh};
-use raypack::bench::scenes;
 use raypack::geometry::plane::Plane;
 use raypack::geometry::{Primitive, Sphere, Transformed, Triangle};
 use raypack::packet::RayPacket8;
 use raypack::ray::{NO_HIT, Ray};
 use raypack::rng::Rng;
+use raypack::scene::generate::random;
 use raypack::simd::SimdFloat;
 
 fn sphere(c: Vec3, r: f32) -> Primitive {
@@ -113,7 +113,7 @@ fn flat_boxes_and_exact_vertex_edge_hits() {
 
 #[test]
 fn degenerate_triangles_are_left_out() {
-    let mut prims = scenes::random_triangles(200, 9);
+    let mut prims = random::random_triangles(200, 9);
     prims.push(tri(Vec3::ZERO, Vec3::X, 2.0 * Vec3::X)); // collinear
     prims.push(tri(Vec3::ONE, Vec3::ONE, Vec3::ONE)); // one point
     prims.push(tri(Vec3::NAN, Vec3::X, Vec3::Y)); // non-finite
@@ -141,8 +141,8 @@ fn placed(prims: &[Primitive], scale: f32, offset: Vec3) -> Vec<Primitive> {
 
 #[test]
 fn huge_coordinates() {
-    let mut base = scenes::random_spheres(300, 10);
-    base.extend(scenes::random_triangles(300, 11));
+    let mut base = random::random_spheres(300, 10);
+    base.extend(random::random_triangles(300, 11));
     // Far from the origin: coordinates of 10⁶ with features of 0.1.
     check(
         "offset 1e6",
@@ -191,7 +191,7 @@ fn unbalanced_scene_stays_within_the_stack() {
 
 #[test]
 fn every_build_option_gives_the_same_answers() {
-    let prims = scenes::random_mixed(400, 12);
+    let prims = random::random_mixed(400, 12);
     let rays = bvh_support::random_rays(bvh_support::scene_bounds(&prims), 10_000, 5);
     for (bins, max_leaf_size) in [(8, 1), (32, 16), (2, 4), (16, 64)] {
         let options = BuildOptions {
@@ -207,7 +207,7 @@ fn every_build_option_gives_the_same_answers() {
 
 #[test]
 fn non_finite_and_degenerate_rays_answer_like_brute_force() {
-    let prims = scenes::random_mixed(200, 13);
+    let prims = random::random_mixed(200, 13);
     let bvh = Bvh::new(&prims);
     let brute = BruteForce::new(&prims);
     let (nan, inf) = (f32::NAN, f32::INFINITY);

@@ -5,13 +5,13 @@ mod bvh_support;
 
 use clap::ValueEnum;
 use raypack::accel::{Accel, AccelKind, AccelWithStats, AnyAccel, BruteForce, Bvh, TraversalStats};
-use raypack::bench::scenes;
 use raypack::packet::RayPacket8;
+use raypack::scene::generate::random;
 use raypack::simd::SimdFloat;
 
 #[test]
 fn counted_queries_return_the_plain_answers() {
-    let prims = scenes::random_mixed(2000, 21);
+    let prims = random::random_mixed(2000, 21);
     let bounds = bvh_support::scene_bounds(&prims);
     let rays = bvh_support::random_rays(bounds, 4000, 22);
     let bvh = Bvh::new(&prims);
@@ -73,7 +73,7 @@ fn counted_queries_return_the_plain_answers() {
 
 #[test]
 fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
-    let prims = scenes::bumpy_sphere(20_000, 23);
+    let prims = random::bumpy_sphere(20_000, 23);
     let bvh = Bvh::new(&prims);
     let bounds = bvh_support::scene_bounds(&prims);
     let mut primary = TraversalStats::default();
@@ -103,7 +103,7 @@ fn accel_kind_parses_builds_and_forwards() {
     assert_eq!(AccelKind::from_str("bvh", false), Ok(AccelKind::Bvh));
     assert!(AccelKind::from_str("kd", false).is_err());
     assert_eq!(AccelKind::Bvh.to_string(), "bvh");
-    let prims = scenes::random_spheres(300, 25);
+    let prims = random::random_spheres(300, 25);
     let rays = bvh_support::random_rays(bvh_support::scene_bounds(&prims), 2000, 26);
     let none = AccelKind::None.build(&prims);
     let bvh = AccelKind::Bvh.build(&prims);

@@ -16,10 +16,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use raypack::accel::BruteForce;
-use raypack::compare::test_scenes::{self, NAMES};
 use raypack::compare::{Agreement, AgreementOptions, Kernel, primary_rays, random_rays, trace_rays};
 use raypack::embree::{Device, EmbreeScene};
 use raypack::scene::Scene;
+use raypack::scene::generate::test_scenes::{self, NAMES};
 
 const MIN_AGREEMENT: f64 = 0.9999;
 const MAX_T_ERROR_P99: f64 = 1e-5;

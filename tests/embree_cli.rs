@@ -9,7 +9,7 @@ use cli_support::TINY_TRAVERSAL;
 
 use raypack::compare::csv::format_rays;
 use raypack::compare::random_rays;
-use raypack::compare::test_scenes;
+use raypack::scene::generate::test_scenes;
 
 fn raypack() -> Command {
     Command::new(env!("CARGO_BIN_EXE_raypack"))

@@ -8,12 +8,12 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use raypack::accel::{Accel, BruteForce};
-use raypack::compare::test_scenes;
 use raypack::compare::{AgreementOptions, DisagreementKind, random_rays};
 use raypack::embree::{Device, EmbreeScene};
 use raypack::geometry::{Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
 use raypack::packet::RayPacket;
 use raypack::ray::{NO_HIT, Ray};
+use raypack::scene::generate::test_scenes;
 use raypack::simd::SimdFloat;
 use wide::{f32x4, f32x8, f32x16};
 

@@ -451,7 +451,7 @@ fn closed_mesh_has_no_cracks_at_shared_vertices_and_edges() {
     // Rays from outside a closed sphere mesh of radius 2 aimed exactly at every
     // vertex and edge midpoint: each must stop at the near surface (t ≈ 1), not
     // slip through the shared point to the far side (t ≈ 5).
-    let prims = raypack::compare::test_scenes::uv_sphere_mesh(Vec3::ZERO, 2.0, 400);
+    let prims = raypack::scene::generate::test_scenes::uv_sphere_mesh(Vec3::ZERO, 2.0, 400);
     let accel = raypack::accel::BruteForce::new(&prims);
     let mut rays = 0;
     for p in &prims {

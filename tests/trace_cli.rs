@@ -7,7 +7,7 @@ use std::process::Command;
 use raypack::accel::{Accel, BruteForce};
 use raypack::compare::csv::format_rays;
 use raypack::compare::random_rays;
-use raypack::compare::test_scenes;
+use raypack::scene::generate::test_scenes;
 
 fn raypack() -> Command {
     Command::new(env!("CARGO_BIN_EXE_raypack"))

@@ -2,5 +2,4 @@
 
 pub mod kernels;
 pub mod scene;
-pub mod scenes;
 pub mod traversal;

@@ -20,13 +20,13 @@ use rayon::prelude::*;
 use wide::f32x8;
 
 use crate::accel::{Accel, AccelWithStats, Bvh, TraversalStats};
-use crate::bench::scenes;
 use crate::bounds::Aabb;
 use crate::camera::Camera;
-use crate::compare::Engine;
+use crate::engine::Engine;
 use crate::geometry::Primitive;
 use crate::packet::RayPacket8;
 use crate::ray::Ray;
+use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_rays, random_spheres};
 use crate::simd::SimdFloat;
 
 /// Rays per tile: 16×16 pixels, 32 packets of 4×2.
@@ -78,7 +78,7 @@ impl TraversalSetup {
             }
         }
         let bounds = scene_bounds(&prims);
-        let random = scenes::random_rays(bounds, random, seed);
+        let random = random_rays(bounds, random, seed);
         let random_packets = random.chunks(8).map(RayPacket8::from_rays).collect();
         Self {
             name: name.into(),
@@ -92,14 +92,14 @@ impl TraversalSetup {
     }
 
     /// A generated scene of about `n` primitives: `kind` is `mesh` (bumpy-sphere
-    /// triangles) or `spheres`; seen by [`scenes::framing_camera`].
+    /// triangles) or `spheres`; seen by [`framing_camera`].
     pub fn generated(kind: &str, n: usize, width: u32, height: u32, random: usize) -> Option<Self> {
         let prims = match kind {
-            "mesh" => scenes::bumpy_sphere(n, 1),
-            "spheres" => scenes::random_spheres(n, 1),
+            "mesh" => bumpy_sphere(n, 1),
+            "spheres" => random_spheres(n, 1),
             _ => return None,
         };
-        let camera = scenes::framing_camera(scene_bounds(&prims), width, height);
+        let camera = framing_camera(scene_bounds(&prims), width, height);
         Some(Self::new(format!("{kind}-{n}"), prims, &camera, random, 2))
     }
 }
@@ -180,7 +180,7 @@ pub struct Builder {
 
 impl Builder {
     /// A builder for `engines` on `threads` threads: Embree's device (on
-    /// [`embree_config`](crate::compare::embree_config)`(threads)`, so its
+    /// [`embree_config`](crate::engine::embree_config)`(threads)`, so its
     /// build gets as many threads as raypack's) is made here, so a missing
     /// feature or a failing device is reported before any scene is generated.
     ///
@@ -200,7 +200,7 @@ impl Builder {
         #[cfg(feature = "embree")]
         {
             let device = if embree {
-                let device = crate::embree::Device::new(&crate::compare::embree_config(threads))?;
+                let device = crate::embree::Device::new(&crate::engine::embree_config(threads))?;
                 Some(std::sync::Arc::new(device))
             } else {
                 None
@@ -213,7 +213,7 @@ impl Builder {
         }
         #[cfg(not(feature = "embree"))]
         {
-            anyhow::ensure!(!embree, crate::compare::EMBREE_MISSING);
+            anyhow::ensure!(!embree, crate::engine::EMBREE_MISSING);
             Ok(Self { engines, threads })
         }
     }
@@ -241,7 +241,7 @@ impl Builder {
                 Ok(Structure::Embree(crate::embree::EmbreeScene::new(device, prims)?))
             }
             #[cfg(not(feature = "embree"))]
-            Engine::Embree => anyhow::bail!(crate::compare::EMBREE_MISSING),
+            Engine::Embree => anyhow::bail!(crate::engine::EMBREE_MISSING),
         }
     }
 }

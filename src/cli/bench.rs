@@ -8,8 +8,7 @@ use clap::{Args, Subcommand};
 use crate::bench::kernels::{Measure, for_each_setup};
 use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure};
 use crate::bench::traversal::TraversalRow;
-use crate::cli::render::{parse_size, scene_camera};
-use crate::cli::scene_arg;
+use crate::cli::args::{load_scene, parse_size, scene_camera};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, KernelKind};
@@ -92,8 +91,8 @@ pub fn run(cmd: BenchCommand) -> CliResult {
 }
 
 fn traversal(args: TraversalArgs) -> CliResult {
-    use crate::bench::scenes::framing_camera;
     use crate::bench::traversal::{Builder, TraversalSetup, measure, scene_bounds};
+    use crate::scene::generate::random::framing_camera;
 
     // Ask for the engines before generating scenes: Embree may be missing.
     let first_threads = args.threads.first().copied().unwrap_or(1);
@@ -101,7 +100,7 @@ fn traversal(args: TraversalArgs) -> CliResult {
 
     let setups: Vec<TraversalSetup> = match &args.file {
         Some(path) => {
-            let scene = scene_arg::load_scene(path)?;
+            let (scene, _) = load_scene(path)?;
             let camera = match scene.camera {
                 Some(spec) => spec.camera_at(args.width, args.height),
                 None => Ok(framing_camera(
@@ -370,7 +369,7 @@ fn engine_name(engine: Engine) -> &'static str {
 }
 
 fn scene(args: SceneArgs) -> CliResult {
-    let scene = scene_arg::load_scene(&args.scene)?;
+    let (scene, _) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, Path::new(&args.scene), args.size)?;
     let frame = PrimaryFrame::new(&camera, args.tile);
     let mut variants = Vec::new();

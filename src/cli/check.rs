@@ -11,10 +11,9 @@ use clap::Args;
 
 use crate::accel::AccelKind;
 use crate::cli::CliResult;
-use crate::compare::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Kernel};
-
-#[cfg(feature = "embree")]
-pub use with_embree::embree_scene;
+use crate::cli::args::parse_size;
+use crate::compare::Kernel;
+use crate::engine::{DEFAULT_EMBREE_CONFIG, EmbreeMode};
 
 /// Which ray sets to compare on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -70,15 +69,6 @@ pub struct CheckArgs {
     pub json: bool,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let parse = |p: &str| p.trim().parse::<u32>().ok().filter(|&v| v > 0);
-    match s.split_once(['x', 'X']) {
-        Some((w, h)) => parse(w).zip(parse(h)),
-        None => None,
-    }
-    .ok_or_else(|| format!("expected WIDTHxHEIGHT with positive numbers, got `{s}`"))
-}
-
 /// Run `check`.
 pub fn run(args: CheckArgs) -> CliResult {
     #[cfg(feature = "embree")]
@@ -87,7 +77,7 @@ pub fn run(args: CheckArgs) -> CliResult {
     {
         let _ = args;
         Err(crate::cli::CliError::BadInput(anyhow::anyhow!(
-            crate::compare::EMBREE_MISSING
+            crate::engine::EMBREE_MISSING
         )))
     }
 }
@@ -95,30 +85,19 @@ pub fn run(args: CheckArgs) -> CliResult {
 /// The comparison itself, built with the `embree` feature only.
 #[cfg(feature = "embree")]
 mod with_embree {
-    use std::sync::Arc;
 
     use anyhow::anyhow;
 
     use super::{CheckArgs, RayChoice};
     use crate::accel::Accel;
-    use crate::cli::scene_arg::load_scene;
+    use crate::cli::args::{embree_scene, load_scene};
     use crate::cli::{CliError, CliResult};
     use crate::compare::{
-        Agreement, AgreementOptions, EmbreeMode, Kernel, RaySet, primary_rays, random_rays, trace_rays,
+        Agreement, AgreementOptions, Kernel, RaySet, primary_rays, random_rays, trace_rays,
     };
-    use crate::embree::{Device, EmbreeScene, flush_denormals};
+    use crate::embree::{EmbreeScene, flush_denormals};
     use crate::ray::Ray;
     use crate::scene::Scene;
-
-    /// The Embree scene of `scene` on a device made with `config`.
-    pub fn embree_scene(scene: &Scene, config: &str, mode: EmbreeMode) -> Result<EmbreeScene, CliError> {
-        let device = Arc::new(Device::new(config).map_err(|e| CliError::BadInput(e.into()))?);
-        match mode {
-            EmbreeMode::Robust => EmbreeScene::robust(device, &scene.primitives),
-            EmbreeMode::Fast => EmbreeScene::new(device, &scene.primitives),
-        }
-        .map_err(|e| CliError::Failed(e.into()))
-    }
 
     /// The comparison on one ray set, for the JSON report.
     #[derive(serde::Serialize)]
@@ -135,7 +114,7 @@ mod with_embree {
     pub fn run(args: CheckArgs) -> CliResult {
         // Both engines run with FTZ/DAZ, as Embree wants, on every worker thread.
         rayon::broadcast(|_| flush_denormals());
-        let scene = load_scene(&args.scene)?;
+        let (scene, _) = load_scene(&args.scene)?;
         let embree = embree_scene(&scene, &args.embree_config, args.embree_mode)?;
         let raypack = args.accel.build(&scene.primitives);
         let spec = scene.camera.unwrap_or_else(|| scene.default_camera());

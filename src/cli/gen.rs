@@ -1,13 +1,13 @@
 //! `raypack gen KIND [--size N] [--seed S] [-o FILE]`: write a generated scene
-//! as NFF to stdout or, atomically (a temporary file renamed into place), to a file.
+//! as NFF to stdout or, atomically ([`AtomicFile`]), to a file.
 
-use std::fs::File;
-use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::io::{self, BufWriter};
+use std::path::PathBuf;
 
-use anyhow::{Context, anyhow};
+use anyhow::anyhow;
 use clap::Args;
 
+use crate::atomic_file::AtomicFile;
 use crate::cli::{CliError, CliResult};
 use crate::scene::generate::{Kind, Params};
 
@@ -43,40 +43,9 @@ pub fn run(args: GenArgs) -> CliResult {
                 .map_err(|e| CliError::Failed(anyhow!(e).context("cannot write to stdout")))?;
         }
         Some(path) => {
-            write_atomically(path, |file| params.write_nff(file).map(drop)).map_err(CliError::BadInput)?;
+            AtomicFile::create(path)?.commit_with(|out| params.write_nff(out).map(drop))?;
             eprintln!("{}: {}", path.display(), params.title());
         }
     }
     Ok(())
-}
-
-/// Write `path` through `write` into a temporary file beside it, renamed over
-/// `path` only once complete, so no half-written file is ever left there.
-fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
-) -> anyhow::Result<()> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| anyhow!("{}: not a file name", path.display()))?;
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let temp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    let result = File::create(&temp)
-        .and_then(|file| {
-            let mut out = BufWriter::new(file);
-            write(&mut out)?;
-            out.flush()?;
-            out.into_inner()
-                .map_err(io::IntoInnerError::into_error)?
-                .sync_all()
-        })
-        .and_then(|()| std::fs::rename(&temp, path));
-    if result.is_err() {
-        // Best effort: the temporary may not even exist.
-        let _ = std::fs::remove_file(&temp);
-    }
-    result.with_context(|| format!("cannot write {}", path.display()))
 }

@@ -8,7 +8,8 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use crate::cli::{CliResult, scene_arg};
+use crate::cli::CliResult;
+use crate::cli::args::load_scene;
 use crate::geometry::PrimitiveKind;
 use crate::scene::{CameraSpec, Light, Material, Scene};
 
@@ -52,7 +53,7 @@ struct Bounds {
 /// Load the scene and print the report; a scene that does not load is bad input (exit 2).
 pub fn run(args: Args) -> CliResult {
     let start = Instant::now();
-    let scene = scene_arg::load_scene(&args.scene)?;
+    let (scene, _) = load_scene(&args.scene)?;
     let load_seconds = start.elapsed().as_secs_f64();
     let report = report(&scene, load_seconds);
     let out = if args.json {

@@ -1,11 +1,11 @@
 //! The `raypack` command line: one file per subcommand.
 
+pub mod args;
 mod bench;
 mod check;
 mod r#gen;
 mod info;
 pub mod render;
-mod scene_arg;
 mod stats;
 mod trace;
 
@@ -78,6 +78,13 @@ pub enum CliError {
     BadInput(anyhow::Error),
     /// Any other failure.
     Failed(anyhow::Error),
+}
+
+/// An output that cannot be written is the user's to fix (exit 2).
+impl From<crate::atomic_file::OutputError> for CliError {
+    fn from(e: crate::atomic_file::OutputError) -> Self {
+        CliError::BadInput(e.into())
+    }
 }
 
 impl From<anyhow::Error> for CliError {

@@ -1,17 +1,18 @@
 //! `raypack render SCENE -o out.png`: render a scene into a timing-annotated PNG
 //! (and optionally a JSON sidecar with the same numbers).
 
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::path::PathBuf;
 
 use clap::Args as ClapArgs;
 
 use crate::accel::{Accel, CountedAccel};
+use crate::atomic_file::AtomicFile;
 use crate::camera::Camera;
-use crate::cli::{CliError, CliResult, scene_arg};
+use crate::cli::args::{load_scene, parse_size, scene_camera, thread_pool};
+use crate::cli::{CliError, CliResult};
 use crate::render::annotate::{HeatMapKind, NoPixelCosts, annotate_render};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
-use crate::render::output::{AtomicFile, png_bytes};
+use crate::render::output::png_bytes;
 use crate::render::progress::Progress;
 use crate::render::report::{RenderReport, RunInfo};
 use crate::render::{
@@ -78,49 +79,6 @@ pub struct Args {
     pub no_traversal_stats: bool,
 }
 
-/// Parse `WxH` into a non-empty image size.
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WIDTHxHEIGHT, got {s:?}"))?;
-    let parse = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|&n| (1..=65536).contains(&n))
-            .ok_or_else(|| format!("expected a size from 1 to 65536, got {v:?}"))
-    };
-    Ok((parse(w)?, parse(h)?))
-}
-
-/// A thread pool of `threads` workers (all cores when None).
-pub fn thread_pool(threads: Option<u16>) -> Result<rayon::ThreadPool, CliError> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.map_or(0, usize::from))
-        .build()
-        .map_err(|e| CliError::Failed(anyhow::anyhow!("cannot start the worker threads: {e}")))
-}
-
-/// Load a scene (a file or `gen:NAME[:N[:SEED]]`), timing it; a bad one is
-/// the user's to fix (exit 2).
-pub fn load_scene(path: &Path) -> Result<(Scene, f64), CliError> {
-    let start = Instant::now();
-    let scene = scene_arg::load_scene(path)?;
-    Ok((scene, start.elapsed().as_secs_f64()))
-}
-
-/// The scene's camera (or a default one that frames it) at `size` or its own resolution.
-pub fn scene_camera(scene: &Scene, path: &Path, size: Option<(u32, u32)>) -> Result<Camera, CliError> {
-    let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
-    let (w, h) = size.unwrap_or((spec.width, spec.height));
-    spec.camera_at(w, h)
-        .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))
-}
-
-fn output_error(e: crate::render::output::OutputError) -> CliError {
-    CliError::BadInput(e.into())
-}
-
 /// Render with whichever acceleration structure was chosen, counting its
 /// traversal as `counting` says where the structure can be counted.
 struct Job<'a> {
@@ -183,13 +141,8 @@ pub fn run(args: Args) -> CliResult {
         _ if args.no_traversal_stats => Counting::Off,
         _ => Counting::Totals,
     };
-    let image_file = AtomicFile::create(&args.output).map_err(output_error)?;
-    let json_file = args
-        .stats_json
-        .as_deref()
-        .map(AtomicFile::create)
-        .transpose()
-        .map_err(output_error)?;
+    let image_file = AtomicFile::create(&args.output)?;
+    let json_file = args.stats_json.as_deref().map(AtomicFile::create).transpose()?;
 
     let (mut scene, load_seconds) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, &args.scene, args.size)?;
@@ -251,10 +204,10 @@ pub fn run(args: Args) -> CliResult {
     } else {
         annotate_render(&out, &report, args.heatmap).map_err(|e| CliError::BadInput(e.into()))?
     };
-    image_file.commit(&png_bytes(&image)).map_err(output_error)?;
+    image_file.commit(&png_bytes(&image))?;
     if let Some(file) = json_file {
         let json = serde_json::to_string_pretty(&report).map_err(anyhow::Error::from)?;
-        file.commit(json.as_bytes()).map_err(output_error)?;
+        file.commit(json.as_bytes())?;
     }
     println!(
         "wrote {} ({}x{} {}, {} {}, {} threads): trace {:.1} ms, {:.2} Mrays/s, {} rays",

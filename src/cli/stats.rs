@@ -11,7 +11,7 @@ use clap::Args as ClapArgs;
 
 use crate::accel::stats::CountedAccel;
 use crate::accel::{Accel, TraversalStats};
-use crate::cli::render::{load_scene, thread_pool};
+use crate::cli::args::{load_scene, thread_pool};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, WithAccel, with_accel};
 use crate::render::spd::{spd_counts, spd_counts_with_traversal};

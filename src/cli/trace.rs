@@ -5,14 +5,15 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::anyhow;
 use clap::Args;
 
 use crate::accel::AccelKind;
-use crate::cli::scene_arg::load_scene;
+use crate::atomic_file::AtomicFile;
+use crate::cli::args::load_scene;
 use crate::cli::{CliError, CliResult};
-use crate::compare::csv::{format_hits, read_rays, write_atomically};
-use crate::compare::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Engine, Kernel, trace_rays};
+use crate::compare::csv::{format_hits, read_rays};
+use crate::compare::{Kernel, trace_rays};
+use crate::engine::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Engine};
 use crate::ray::{Hit, Ray};
 use crate::scene::Scene;
 
@@ -46,16 +47,17 @@ pub struct TraceArgs {
 
 /// Run `trace`.
 pub fn run(args: TraceArgs) -> CliResult {
-    let scene = load_scene(&args.scene)?;
+    let (scene, _) = load_scene(&args.scene)?;
     let rays = read_rays(&args.rays).map_err(|e| CliError::BadInput(e.into()))?;
+    // Claim the output before tracing, so an unwritable path fails at once.
+    let out = AtomicFile::create(&args.out)?;
     let start = Instant::now();
     let hits = match args.engine {
         Engine::Raypack => trace_rays(&args.accel.build(&scene.primitives), &rays, args.kernel),
         Engine::Embree => embree_hits(&scene, &rays, &args)?,
     };
     let seconds = start.elapsed().as_secs_f64();
-    write_atomically(&args.out, &format_hits(&hits))
-        .map_err(|e| CliError::BadInput(anyhow!("{}: cannot write: {e}", args.out.display())))?;
+    out.commit(format_hits(&hits).as_bytes())?;
     eprintln!(
         "traced {} rays through {} primitives with {:?} ({:?}): {} hits, {:.3} s (with build); wrote {}",
         rays.len(),
@@ -71,11 +73,11 @@ pub fn run(args: TraceArgs) -> CliResult {
 
 #[cfg(feature = "embree")]
 fn embree_hits(scene: &Scene, rays: &[Ray], args: &TraceArgs) -> Result<Vec<Hit>, CliError> {
-    let embree = crate::cli::check::embree_scene(scene, &args.embree_config, args.embree_mode)?;
+    let embree = crate::cli::args::embree_scene(scene, &args.embree_config, args.embree_mode)?;
     Ok(trace_rays(&embree, rays, args.kernel))
 }
 
 #[cfg(not(feature = "embree"))]
 fn embree_hits(_: &Scene, _: &[Ray], _: &TraceArgs) -> Result<Vec<Hit>, CliError> {
-    Err(CliError::BadInput(anyhow!(crate::compare::EMBREE_MISSING)))
+    Err(CliError::BadInput(anyhow::anyhow!(crate::engine::EMBREE_MISSING)))
 }

@@ -9,7 +9,6 @@
 //! in file order, or `inf,-1` for a miss.
 
 use std::fmt::Write as _;
-use std::io;
 use std::path::Path;
 
 use crate::ray::{Hit, Ray};
@@ -134,20 +133,6 @@ pub fn format_hits(hits: &[Hit]) -> String {
     out
 }
 
-/// Write `text` to `path` whole or not at all: into a temporary file beside it,
-/// then renamed over it.
-pub fn write_atomically(path: &Path, text: &str) -> io::Result<()> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "not a file path"))?;
-    let tmp = path.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    std::fs::write(&tmp, text)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .inspect_err(|_| {
-            let _ = std::fs::remove_file(&tmp);
-        })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,18 +214,5 @@ mod tests {
             .parse()
             .unwrap();
         assert_eq!(t.to_bits(), (0.1f32 + 0.2f32).to_bits());
-    }
-
-    #[test]
-    fn atomic_writes_replace_the_file_and_leave_no_temporary() {
-        let dir = std::env::temp_dir().join(format!("raypack-csv-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("hits.csv");
-        write_atomically(&path, "one").unwrap();
-        write_atomically(&path, "two").unwrap();
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "two");
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
-        assert!(write_atomically(&dir.join("missing/hits.csv"), "x").is_err());
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -6,11 +6,8 @@
 pub mod agreement;
 pub mod batch;
 pub mod csv;
-pub mod engine;
 pub mod ray_sets;
-pub mod test_scenes;
 
 pub use agreement::{Agreement, AgreementOptions, Disagreement, DisagreementKind};
 pub use batch::{Kernel, trace_rays};
-pub use engine::{DEFAULT_EMBREE_CONFIG, EMBREE_MISSING, EmbreeMode, Engine, embree_config};
 pub use ray_sets::{RaySet, primary_rays, primary_rays_in_blocks, random_rays};

@@ -14,7 +14,7 @@ use crate::embree::ray_hit::probe_inst_prim_id;
 /// the caller's threads whatever `threads` says; it only sizes Embree's BVH
 /// builder.) On this project's Zen 5 machines forcing `isa=avx2` was measured to
 /// make no difference against Embree's default AVX-512 choice.
-pub const DEFAULT_CONFIG: &str = crate::compare::DEFAULT_EMBREE_CONFIG;
+pub const DEFAULT_CONFIG: &str = crate::engine::DEFAULT_EMBREE_CONFIG;
 
 /// Errors Embree reported through its error callback, oldest first.
 #[derive(Debug, Default)]

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 pub use crate::accel::AccelKind;
 use crate::accel::{Accel, BruteForce, Bvh, CountedAccel};
-pub use crate::compare::Engine;
+pub use crate::engine::Engine;
 use crate::scene::Scene;
 
 /// Code to run with an acceleration structure of any type.
@@ -47,7 +47,7 @@ pub fn with_accel<J: WithAccel>(scene: &Scene, kind: AccelKind, job: J) -> J::Ou
 
 /// Run `job` with the engine the user chose: raypack's structure `kind`, or
 /// Embree in its default (fast) scene mode on
-/// [`DEFAULT_EMBREE_CONFIG`](crate::compare::DEFAULT_EMBREE_CONFIG), with
+/// [`DEFAULT_EMBREE_CONFIG`](crate::engine::DEFAULT_EMBREE_CONFIG), with
 /// FTZ/DAZ set on every worker thread as Embree wants.
 pub fn with_engine<J: WithAccel>(
     scene: &Scene,
@@ -63,8 +63,8 @@ pub fn with_engine<J: WithAccel>(
 
 #[cfg(feature = "embree")]
 fn with_embree<J: WithAccel>(scene: &Scene, job: J) -> anyhow::Result<J::Output> {
-    use crate::compare::DEFAULT_EMBREE_CONFIG;
     use crate::embree::{Device, EmbreeScene, flush_denormals};
+    use crate::engine::DEFAULT_EMBREE_CONFIG;
     rayon::broadcast(|_| flush_denormals());
     let start = Instant::now();
     let device = std::sync::Arc::new(Device::new(DEFAULT_EMBREE_CONFIG)?);
@@ -74,5 +74,5 @@ fn with_embree<J: WithAccel>(scene: &Scene, job: J) -> anyhow::Result<J::Output>
 
 #[cfg(not(feature = "embree"))]
 fn with_embree<J: WithAccel>(_scene: &Scene, _job: J) -> anyhow::Result<J::Output> {
-    anyhow::bail!(crate::compare::EMBREE_MISSING)
+    anyhow::bail!(crate::engine::EMBREE_MISSING)
 }

@@ -101,11 +101,11 @@ mod tests {
 
     use super::*;
     use crate::accel::{AccelWithStats, Bvh};
-    use crate::bench::scenes::random_spheres;
     use crate::packet::RayPacket;
     use crate::ray::Ray;
     use crate::render::kernel::{ALL_LANES, PacketKernel, Rays, ScalarKernel, TraceKernel};
     use crate::rng::Rng;
+    use crate::scene::generate::random::random_spheres;
 
     #[test]
     fn events_are_charged_to_the_lanes_that_did_them() {

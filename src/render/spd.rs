@@ -1,5 +1,5 @@
 //! Ray statistics the way the Standard Procedural Databases count them
-//! (E. Haines, IEEE CG&A 7(11), 1987; the rules in `shared/reference/NFF.md`):
+//! (E. Haines, IEEE CG&A 7(11), 1987; the rules in `docs/nff.md`):
 //! a 512×512 image with eye rays through the pixel *corners* (513×513 rays),
 //! Whitted tracing to depth 5 (the eye ray is depth 1), a reflection ray at
 //! every hit on Ks > 0 or T > 0, a refraction ray at every hit on T > 0 (only

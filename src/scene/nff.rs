@@ -1,5 +1,5 @@
 //! The NFF reader (Eric Haines' Neutral File Format, the format of the Standard
-//! Procedural Databases; summarised in `shared/reference/NFF.md`).
+//! Procedural Databases; summarised in `docs/nff.md`).
 //!
 //! NFF is a stream of white-space separated tokens; `#` starts a comment to the
 //! end of the line. Each entity is a keyword followed by a fixed number of

@@ -4,12 +4,12 @@
 
 use glam::Vec3;
 use raypack::accel::{Accel, BruteForce, Bvh};
-use raypack::bench::scenes::framing_camera;
 use raypack::bounds::Aabb;
 use raypack::geometry::Primitive;
 use raypack::packet::RayPacket;
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
+use raypack::scene::generate::random::framing_camera;
 use raypack::simd::SimdFloat;
 use wide::{f32x4, f32x8, f32x16};
 

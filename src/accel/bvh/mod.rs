@@ -18,7 +18,7 @@
 //!
 //! ```
 //! use raypack::accel::{Accel, AccelWithStats, BruteForce, Bvh, TraversalStats};
-//! use raypack::bench::scenes::random_spheres;
+//! use raypack::scene::generate::random::random_spheres;
 //! use raypack::packet::RayPacket8;
 //! use raypack::ray::Ray;
 //! use glam::Vec3;

@@ -252,9 +252,9 @@ fn fill(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Collapsed) {
 mod tests {
     use super::*;
     use crate::accel::Bvh;
-    use crate::bench::scenes;
     use crate::ray::Ray;
     use crate::rng::Rng;
+    use crate::scene::generate::random;
     use glam::Vec3;
 
     /// Each lane of the wide box test answers as the scalar slab test of that
@@ -347,7 +347,7 @@ mod tests {
                 ))
             })
             .collect();
-        for prims in [scenes::random_mixed(20_000, 1), peeled] {
+        for prims in [random::random_mixed(20_000, 1), peeled] {
             let bvh = Bvh::new(&prims);
             let need = stack_need(&bvh, 0, 0);
             assert!(need < WIDE_STACK_SLOTS, "needs {need} entries");
@@ -359,9 +359,9 @@ mod tests {
     #[test]
     fn collapse_keeps_every_leaf_once() {
         for prims in [
-            scenes::random_mixed(3000, 1),
-            scenes::bumpy_sphere(3000, 1),
-            scenes::random_spheres(1, 2),
+            random::random_mixed(3000, 1),
+            random::bumpy_sphere(3000, 1),
+            random::random_spheres(1, 2),
             Vec::new(),
         ] {
             let bvh = Bvh::new(&prims);

@@ -28,6 +28,7 @@
 mod gears;
 mod mountain;
 pub mod nff_writer;
+pub mod random;
 mod random_spheres;
 mod random_triangles;
 mod rings;
@@ -35,6 +36,7 @@ mod sphereflake;
 mod studio;
 mod teapot;
 mod terrain;
+pub mod test_scenes;
 mod tetra;
 mod tree;
 

@@ -1,4 +1,4 @@
-//! Writing NFF text (the SPD's own output format, see `shared/reference/NFF.md`),
+//! Writing NFF text (the SPD's own output format, see `docs/nff.md`),
 //! one entity at a time, straight to any [`Write`]. Numbers are printed like C's
 //! `%g` (six significant digits), as the SPD programs print them, which keeps
 //! the files as small as theirs and their coordinates identical.

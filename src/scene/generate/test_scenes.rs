@@ -1,6 +1,6 @@
 //! Seeded scenes built in code, for comparing engines before (and besides) the
 //! scene files: random triangles, spheres, polygons, transformed objects and
-//! planes (the generators of [`scenes`]), a closed triangle mesh (shared edges
+//! planes (the generators of [`random`]), a closed triangle mesh (shared edges
 //! everywhere), a sphereflake, and a mix of all of them. Each comes with a
 //! camera that frames it.
 
@@ -9,8 +9,8 @@ use std::path::Path;
 use clap::ValueEnum;
 use glam::{Quat, Vec3};
 
-use crate::bench::scenes;
 use crate::geometry::{Primitive, Sphere, Triangle};
+use crate::scene::generate::random;
 use crate::scene::generate::{Kind, Params};
 use crate::scene::{CameraSpec, Material, Scene, nff};
 
@@ -29,25 +29,25 @@ pub const NAMES: [&str; 8] = [
 /// The scene called `name` (one of [`NAMES`]) with about `n` primitives, from `seed`.
 pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
     let prims = match name {
-        "triangles" => scenes::random_triangles(n, seed),
-        "spheres" => scenes::random_spheres(n, seed),
-        "polygons" => scenes::random_polygons(n, seed),
-        "transformed" => scenes::random_transformed(n, seed),
+        "triangles" => random::random_triangles(n, seed),
+        "spheres" => random::random_spheres(n, seed),
+        "polygons" => random::random_polygons(n, seed),
+        "transformed" => random::random_transformed(n, seed),
         "planes" => {
-            let mut p = scenes::random_spheres(n.saturating_sub(3), seed);
-            p.extend(scenes::bounding_planes());
+            let mut p = random::random_spheres(n.saturating_sub(3), seed);
+            p.extend(random::bounding_planes());
             p
         }
         "mesh" => uv_sphere_mesh(Vec3::ZERO, 4.0, n),
         "sphereflake" => sphereflake(n),
         "mixed" => {
             let k = n / 5;
-            let mut p = scenes::random_triangles(k, seed);
-            p.extend(scenes::random_spheres(k, seed + 1));
-            p.extend(scenes::random_polygons(k, seed + 2));
-            p.extend(scenes::random_transformed(k, seed + 3));
+            let mut p = random::random_triangles(k, seed);
+            p.extend(random::random_spheres(k, seed + 1));
+            p.extend(random::random_polygons(k, seed + 2));
+            p.extend(random::random_transformed(k, seed + 3));
             p.extend(uv_sphere_mesh(Vec3::new(0.0, 0.0, -0.4), 0.4, n - 4 * k));
-            p.extend(scenes::bounding_planes());
+            p.extend(random::bounding_planes());
             p
         }
         _ => return None,

@@ -1,5 +1,5 @@
 //! Generated primitives for tests, benchmarks and the engine comparisons
-//! (`gen:` scenes, [`test_scenes`](crate::compare::test_scenes)): random
+//! (`gen:` scenes, [`test_scenes`](crate::scene::generate::test_scenes)): random
 //! primitives of every kind in the cube `[-1, 1]³`, and a finely tessellated
 //! bumpy sphere standing in for a scanned mesh. Sizes shrink as `n^(-1/3)` so
 //! the density of the scene, not its overlap, stays the same as `n` grows.

@@ -1,4 +1,6 @@
-//! The engines a ray query can go through, as command-line choices.
+//! The engines a ray query can go through, as command-line choices, and how
+//! Embree is configured for them. The bottom floor: it names engines and
+//! imports nothing, so every layer may ask which engine it serves.
 
 /// Which engine traces the rays.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
