@@ -20,11 +20,11 @@ use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput};
 use raypack::accel::{Accel, Bvh};
-use raypack::compare::test_scenes;
 use raypack::compare::{Kernel, primary_rays_in_blocks, trace_rays};
 use raypack::embree::{DEFAULT_CONFIG, Device, EmbreeScene, flush_denormals};
 use raypack::ray::Ray;
 use raypack::scene::Scene;
+use raypack::scene::generate::test_scenes;
 
 // The BVH of a large scene on huge pages, as the `raypack` binary has it.
 #[global_allocator]

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use raypack::accel::Bvh;
-use raypack::bench::scenes::framing_camera;
 use raypack::bench::traversal::{TraversalSetup, scene_bounds, trace_packets, trace_single};
+use raypack::scene::generate::random::framing_camera;
 
 // The BVH of a large scene on huge pages, as the `raypack` binary has it.
 #[global_allocator]
