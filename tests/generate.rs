@@ -581,3 +581,40 @@ fn cli_writes_stdout_or_a_file_and_refuses_bad_input_with_exit_2() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot write"));
     assert!(!missing.exists());
 }
+
+/// One random-sphere law: `raypack gen random-spheres` writes the spheres of
+/// the scene argument `gen:spheres` (to NFF's six digits), and
+/// `gen:random-spheres` reads back the same.
+#[test]
+fn gen_random_spheres_and_gen_spheres_are_the_same_scene() {
+    use raypack::scene::generate::test_scenes::from_spec;
+    let spheres = |prims: &[Primitive]| -> Vec<(Vec3, f32)> {
+        prims
+            .iter()
+            .map(|p| match p {
+                Primitive::Sphere(s) => (s.center, s.radius),
+                other => panic!("not a sphere: {other:?}"),
+            })
+            .collect()
+    };
+    let out = raypack(&["gen", "random-spheres", "--size", "1000", "--seed", "7"]);
+    assert!(out.status.success());
+    let written = raypack::scene::nff::parse(Path::new("random-spheres.nff"), &out.stdout).unwrap();
+    let in_code = from_spec("gen:spheres:1000:7").unwrap().unwrap();
+    let by_kind = from_spec("gen:random-spheres:1000:7").unwrap().unwrap();
+    let expected = spheres(&in_code.primitives);
+    assert_eq!(expected.len(), 1000);
+    for scene in [&written, &by_kind] {
+        let got = spheres(&scene.primitives);
+        assert_eq!(got.len(), expected.len());
+        for ((c, r), (ce, re)) in got.iter().zip(&expected) {
+            assert!(
+                (*c - *ce).abs().max_element() <= 1e-5 && (r - re).abs() <= 1e-6,
+                "{c} {r} vs {ce} {re}"
+            );
+        }
+    }
+    // Another seed is another scene.
+    let other = from_spec("gen:spheres:1000:8").unwrap().unwrap();
+    assert_ne!(spheres(&other.primitives)[0], expected[0]);
+}

@@ -20,16 +20,23 @@ fn cell(n: usize) -> f32 {
     2.0 / (n.max(1) as f32).cbrt()
 }
 
-/// `n` spheres with centres in `[-1, 1]³` and radii up to half a cell.
-pub fn random_spheres(n: usize, seed: u64) -> Vec<Primitive> {
+/// `n` spheres with centres uniform in `[-1, 1]³` and radii uniform in
+/// `[0.1, 0.5]` of a cell: the one random-sphere law, used by `gen:spheres`
+/// and by `raypack gen random-spheres` alike.
+pub fn spheres(n: usize, seed: u64) -> Vec<Sphere> {
     let mut rng = Rng::new(seed);
     let size = cell(n);
     (0..n)
         .map(|_| {
             let c = rng.point_in(Vec3::splat(-1.0), Vec3::splat(1.0));
-            Primitive::Sphere(Sphere::new(c, rng.range(0.1, 0.5) * size))
+            Sphere::new(c, rng.range(0.1, 0.5) * size)
         })
         .collect()
+}
+
+/// [`spheres`] as primitives.
+pub fn random_spheres(n: usize, seed: u64) -> Vec<Primitive> {
+    spheres(n, seed).into_iter().map(Primitive::Sphere).collect()
 }
 
 /// A random triangle of about `size` around a random point of `[-1, 1]³`.

@@ -1,16 +1,16 @@
-//! Random spheres: `count` spheres with centres uniform in `[−1, 1]³` and radii
-//! uniform in `[½, 1½]·r₀`, where `r₀ = (0.6 / (π·count))^⅓` makes them fill
-//! about a tenth of the cube whatever their number (overlaps allowed). Seeded
-//! with [`Rng`], so a seed names one scene. `--size` is the sphere count.
+//! Random spheres: the spheres of [`random::spheres`] (centres uniform in
+//! `[−1, 1]³`, radii uniform in `[0.1, 0.5]` of the cube's edge over `∛count`,
+//! overlaps allowed), so `raypack gen random-spheres --size N --seed S` and the
+//! scene argument `gen:spheres:N:S` hold the same spheres (up to the six
+//! digits NFF prints). `--size` is the sphere count.
 
-use std::f64::consts::PI;
 use std::io::{self, Write};
 
 use glam::DVec3;
 
 use super::nff_writer::{NffWriter, Surface, phong_exponent};
+use super::random;
 use super::studio;
-use crate::rng::Rng;
 
 /// Write `count` random spheres drawn with `seed`.
 pub fn write<W: Write>(count: u32, seed: u64, out: &mut NffWriter<W>) -> io::Result<()> {
@@ -23,12 +23,8 @@ pub fn write<W: Write>(count: u32, seed: u64, out: &mut NffWriter<W>) -> io::Res
         transmittance: 0.0,
         ior: 1.0,
     })?;
-    let mut rng = Rng::new(seed);
-    let r0 = (0.6 / (PI * f64::from(count.max(1)))).cbrt();
-    for _ in 0..count {
-        let center = rng.point_in(glam::Vec3::NEG_ONE, glam::Vec3::ONE).as_dvec3();
-        let radius = r0 * f64::from(rng.range(0.5, 1.5));
-        out.sphere(center, radius)?;
+    for s in random::spheres(count as usize, seed) {
+        out.sphere(s.center.as_dvec3(), f64::from(s.radius))?;
     }
     Ok(())
 }
