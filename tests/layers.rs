@@ -8,7 +8,15 @@ use std::path::{Path, PathBuf};
 
 /// The layers, bottom first. Keep in step with ARCHITECTURE.md.
 const LAYERS: &[&[&str]] = &[
-    &["simd", "rng", "bounds", "huge_pages", "engine", "atomic_file"],
+    &[
+        "simd",
+        "rng",
+        "bounds",
+        "huge_pages",
+        "engine",
+        "atomic_file",
+        "plural",
+    ],
     &["ray"],
     &["packet"],
     &["geometry"],

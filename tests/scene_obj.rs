@@ -124,7 +124,7 @@ fn malformed_statements_name_their_line() {
     assert_error(
         parse(&with("f 1 2 4")),
         "test.obj:4: ",
-        "vertex index 4 out of range (3 vertexs defined so far)",
+        "vertex index 4 out of range (3 vertices defined so far)",
     );
     assert_error(
         parse(&with("f 1 2 -4")),

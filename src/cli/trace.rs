@@ -14,6 +14,7 @@ use crate::cli::{CliError, CliResult};
 use crate::compare::csv::{format_hits, read_rays};
 use crate::compare::{Kernel, trace_rays};
 use crate::engine::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Engine};
+use crate::plural;
 use crate::ray::{Hit, Ray};
 use crate::scene::Scene;
 
@@ -59,12 +60,12 @@ pub fn run(args: TraceArgs) -> CliResult {
     let seconds = start.elapsed().as_secs_f64();
     out.commit(format_hits(&hits).as_bytes())?;
     eprintln!(
-        "traced {} rays through {} primitives with {:?} ({:?}): {} hits, {:.3} s (with build); wrote {}",
-        rays.len(),
-        scene.primitives.len(),
+        "traced {} through {} with {:?} ({:?}): {}, {:.3} s (with build); wrote {}",
+        plural::count(rays.len() as u64, "ray", "rays"),
+        plural::count(scene.primitives.len() as u64, "primitive", "primitives"),
         args.engine,
         args.kernel,
-        hits.iter().filter(|h| h.is_hit()).count(),
+        plural::count(hits.iter().filter(|h| h.is_hit()).count() as u64, "hit", "hits"),
         seconds,
         args.out.display()
     );

@@ -14,9 +14,9 @@ const CHUNK: usize = 256;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Kernel {
-    /// One ray at a time ([`Accel::intersect`]).
+    /// One ray at a time (`Accel::intersect`).
     Scalar,
-    /// Eight consecutive rays per packet ([`Accel::intersect_packet`]).
+    /// Eight consecutive rays per packet (`Accel::intersect_packet`).
     Packet8,
 }
 

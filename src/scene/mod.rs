@@ -85,13 +85,27 @@ pub struct CameraSpec {
     pub height: u32,
 }
 
+/// The direction the default camera looks from: in front, a little right and
+/// above, so a model without a camera of its own shows its depth rather than a
+/// flat silhouette.
+pub const DEFAULT_VIEW: Vec3 = Vec3::new(0.3, 0.4, 1.0);
+
 impl CameraSpec {
     /// A camera looking down −z at the centre of `bounds` that fits the box's
-    /// bounding sphere in the image. The lecture's primary rays start on the
-    /// image plane, one unit in front of the eye, so the eye stands at least
-    /// `1 + 2·radius` away (a small model would otherwise lie behind the image
-    /// plane and never be hit) and the field of view narrows to fit.
+    /// bounding sphere in the image: the benchmarks' fixed view (see
+    /// [`framing_from`](Self::framing_from)).
     pub fn framing(bounds: Aabb, width: u32, height: u32) -> CameraSpec {
+        Self::framing_from(bounds, width, height, Vec3::Z)
+    }
+
+    /// A camera at the centre of `bounds` plus a multiple of `direction`,
+    /// looking back at the centre, that fits the box's bounding sphere in the
+    /// image. The lecture's primary rays start on the image plane, one unit in
+    /// front of the eye, so the eye stands at least `1 + 2·radius` away (a
+    /// small model would otherwise lie behind the image plane and never be
+    /// hit) and the field of view narrows to fit. `direction` must not be
+    /// parallel to +y (the up vector).
+    pub fn framing_from(bounds: Aabb, width: u32, height: u32, direction: Vec3) -> CameraSpec {
         let (center, radius) = if bounds.is_empty() {
             (Vec3::ZERO, 1.0)
         } else {
@@ -101,7 +115,7 @@ impl CameraSpec {
         let fovy = 2.0 * (radius / distance).asin();
         let fovx = 2.0 * ((0.5 * fovy).tan() * width as f32 / height as f32).atan();
         CameraSpec {
-            eye: center + Vec3::new(0.0, 0.0, distance),
+            eye: center + distance * direction.normalize(),
             center,
             up: Vec3::Y,
             fovx: fovx.to_degrees(),
@@ -183,9 +197,10 @@ impl Scene {
         &self.materials[self.material_of[prim as usize] as usize]
     }
 
-    /// A camera that frames the whole scene from the +z side, for files without one.
+    /// A camera that frames the whole scene from [`DEFAULT_VIEW`], 512×512, for
+    /// files without one (and the `gen:` test scenes at 256×256).
     pub fn default_camera(&self) -> CameraSpec {
-        CameraSpec::framing(self.bounds(), 512, 512)
+        CameraSpec::framing_from(self.bounds(), 512, 512, DEFAULT_VIEW)
     }
 }
 

@@ -23,6 +23,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::plural;
 use crate::scene::input::{self, finite_f32, parse_int, quote};
 use crate::scene::mesh::MeshBuilder;
 use crate::scene::{Scene, SceneError};
@@ -134,13 +135,13 @@ impl ObjReader {
                     quote(corner)
                 ));
             }
-            let position = resolve(v, self.positions.len(), "vertex")?;
+            let position = resolve(v, self.positions.len(), ("vertex", "vertices"))?;
             if !vt.is_empty() {
                 parse_int(vt)?;
             }
             let normal = match vn {
                 b"" => None,
-                _ => Some(resolve(vn, self.normals.len(), "normal")?),
+                _ => Some(resolve(vn, self.normals.len(), ("normal", "normals"))?),
             };
             self.corners.push(self.positions[position]);
             self.corner_normals.push(normal);
@@ -183,7 +184,7 @@ fn numbers<'a>(
 
 /// An OBJ index (1-based, or negative counting back from the latest) into a list
 /// of `count` items defined so far, as a 0-based index.
-fn resolve(token: &[u8], count: usize, what: &str) -> Result<usize, String> {
+fn resolve(token: &[u8], count: usize, (what, whats): (&str, &str)) -> Result<usize, String> {
     let index = parse_int(token).map_err(|m| format!("{what} index: {m}"))?;
     if index == 0 {
         return Err(format!("{what} index 0 is not valid (OBJ indices start at 1)"));
@@ -195,7 +196,8 @@ fn resolve(token: &[u8], count: usize, what: &str) -> Result<usize, String> {
     };
     if !(0..count as i64).contains(&resolved) {
         return Err(format!(
-            "{what} index {index} out of range ({count} {what}s defined so far)"
+            "{what} index {index} out of range ({} defined so far)",
+            plural::count(count as u64, what, whats)
         ));
     }
     Ok(resolved as usize)

@@ -117,15 +117,11 @@ pub fn scene_of(source: String, prims: Vec<Primitive>) -> Scene {
     for p in prims {
         scene.push(p, 0);
     }
-    let b = scene.bounds();
+    // The framing of any scene without a camera, at a test scene's size.
     scene.camera = Some(CameraSpec {
-        eye: b.center() + Vec3::new(0.3, 0.4, 1.0).normalize() * 1.2 * b.extent().length(),
-        center: b.center(),
-        up: Vec3::Y,
-        fovx: 45.0,
-        fovy: 45.0,
         width: 256,
         height: 256,
+        ..scene.default_camera()
     });
     scene
 }
