@@ -14,10 +14,11 @@
 //! The time heat map colours each tile by its CPU time per pixel (its time
 //! divided by its pixel count, so the smaller tiles at the right and bottom
 //! edges compare fairly); the cost heat map colours each pixel by the node
-//! visits plus primitive tests of all its rays. The time scale runs from 0 to
-//! the slowest tile; the cost scale from 0 to the 99th percentile of the
-//! pixels (labelled `N+`), since a few pixels (grazing rays, deep mirror
-//! paths) cost many times the rest and would leave everything else black.
+//! visits plus primitive tests of all its rays. Both scales run from 0 to the
+//! 99th percentile of the pixels (labelled `N+` when something lies above it,
+//! and the legend says `p99`), since a few tiles (one preempted, or holding a
+//! deep mirror path) or pixels (grazing rays) cost many times the rest and
+//! would leave everything else black.
 
 use image::{Rgb, RgbImage};
 
@@ -38,8 +39,22 @@ const INK: Rgb<u8> = Rgb([230, 230, 230]);
 const TICKS: [f64; 3] = [1.0, 0.5, 0.0];
 /// Legend label width in characters, at least.
 const LABEL_COLUMNS: usize = 10;
-/// Percentile of the pixel costs at the top of the cost scale.
-const COST_PERCENTILE: f64 = 0.99;
+/// Percentile of the pixel values at the top of both scales.
+const TOP_PERCENTILE: f64 = 0.99;
+
+/// The top of a heat map's scale: the 99th percentile of `values`, or their
+/// maximum if that percentile is 0 (a map of mostly nothing).
+fn robust_top(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_unstable_by(f64::total_cmp);
+    let rank = (TOP_PERCENTILE * sorted.len() as f64).ceil() as usize;
+    let percentile = sorted.get(rank.max(1) - 1).copied().unwrap_or(0.0);
+    if percentile > 0.0 {
+        percentile
+    } else {
+        sorted.last().copied().unwrap_or(0.0)
+    }
+}
 
 /// What a heat map beside the render shows (`--heatmap time|cost`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -86,36 +101,26 @@ impl HeatMap {
                 values[row + tile.x as usize..row + (tile.x + tile.width) as usize].fill(us);
             }
         }
-        let top = values.iter().copied().fold(0.0, f64::max);
         Self {
             width,
             height,
+            top: robust_top(&values),
             values,
-            top,
             unit: "us/px",
             decimals: 3,
         }
     }
 
     /// Each pixel's traversal cost (node visits plus primitive tests), `cost`
-    /// being row-major with `width × height` entries; the scale tops out at
-    /// the 99th percentile (or the maximum, if that percentile is 0).
+    /// being row-major with `width × height` entries.
     pub fn pixel_costs(width: u32, height: u32, cost: &[u64]) -> Self {
         debug_assert_eq!(cost.len(), width as usize * height as usize);
-        let mut sorted = cost.to_vec();
-        sorted.sort_unstable();
-        let rank = (COST_PERCENTILE * sorted.len() as f64).ceil() as usize;
-        let percentile = sorted.get(rank.max(1) - 1).copied().unwrap_or(0);
-        let top = if percentile > 0 {
-            percentile
-        } else {
-            sorted.last().copied().unwrap_or(0)
-        };
+        let values: Vec<f64> = cost.iter().map(|&c| c as f64).collect();
         Self {
             width,
             height,
-            values: cost.iter().map(|&c| c as f64).collect(),
-            top: top as f64,
+            top: robust_top(&values),
+            values,
             unit: "nodes+prims/px",
             decimals: 0,
         }
@@ -131,8 +136,8 @@ impl HeatMap {
         self.values.iter().copied().fold(0.0, f64::max)
     }
 
-    /// The value of the brightest colour: the maximum, or for pixel costs the
-    /// 99th percentile (larger values are as bright).
+    /// The value of the brightest colour: the 99th percentile of the pixels
+    /// (larger values are as bright), or the maximum if that is 0.
     pub fn top(&self) -> f64 {
         self.top
     }
@@ -242,6 +247,8 @@ fn draw_heat_map(out: &mut RgbImage, hm: &HeatMap, x0: u32, scale: u32) {
         );
     }
     text::draw(out, label_x, bottom / 2 + glyph + 2, hm.unit, scale, INK);
+    // Say what the top of the scale is.
+    text::draw(out, label_x, bottom / 2 + 2 * glyph + 4, "top: p99", scale, INK);
 }
 
 #[cfg(test)]
@@ -312,6 +319,22 @@ mod tests {
         let times = HeatMap::tile_times(&grid, &seconds);
         assert_eq!(times.value(0, 0), times.value(1, 1));
         assert_eq!(times.value(5, 3), 1e6 * 5.0 / 4.0);
+    }
+
+    #[test]
+    fn time_heat_map_scale_ignores_one_outlier_tile() {
+        // 100 tiles of 1 ms and one preempted tile of 1 s: the scale tops out
+        // at the ordinary tiles, which are not black, and the outlier is as
+        // bright as the top.
+        let grid = tiles(160, 160, 16);
+        let mut seconds = vec![1e-3; grid.len()];
+        seconds[42] = 1.0;
+        let hm = HeatMap::tile_times(&grid, &seconds);
+        let ordinary = 1e6 * 1e-3 / 256.0;
+        assert!((hm.top() - ordinary).abs() < 1e-9, "{}", hm.top());
+        assert!(hm.max() > 100.0 * hm.top());
+        let img = annotate(&RgbImage::new(160, 160), &[], Some(&hm));
+        assert_eq!(*img.get_pixel(160 + GAP + 1, 1), heat(1.0));
     }
 
     #[test]

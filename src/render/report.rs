@@ -276,7 +276,7 @@ impl RenderReport {
     pub fn heat_caption(&self, kind: HeatMapKind) -> String {
         match kind {
             HeatMapKind::Time => format!(
-                "heat map: CPU time per pixel of each {}px tile, black 0 to yellow = slowest; tiles {:.2}-{:.2} ms, mean {:.2} ms",
+                "heat map: CPU time per pixel of each {}px tile, black 0 to yellow = 99th percentile of the pixels; tiles {:.2}-{:.2} ms, mean {:.2} ms",
                 self.tile_size, self.tiles.min_ms, self.tiles.max_ms, self.tiles.mean_ms
             ),
             HeatMapKind::Cost => {

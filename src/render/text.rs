@@ -42,21 +42,61 @@ pub fn draw(img: &mut RgbImage, x: i64, y: i64, text: &str, scale: u32, color: R
     }
 }
 
-/// Break `text` into lines of at most `columns` characters at spaces (a word
-/// longer than a line is cut). Runs of two spaces separate fields in captions,
-/// and a line never starts with the space it was broken at.
+/// Break `text` into lines of at most `columns` characters. Runs of two
+/// spaces separate the fields of a caption (`threads: 2  setup: 0.4 ms`): a
+/// line breaks between fields, so a field stays whole on one line, and only a
+/// field longer than a line is broken at its own spaces (a word longer than a
+/// line is cut). A line never starts or ends with the space it was broken at.
 pub fn wrap(text: &str, columns: usize) -> Vec<String> {
     let columns = columns.max(1);
     let mut lines = Vec::new();
     let mut line = String::new();
-    for word in text.split(' ') {
+    for field in text.split("  ").map(str::trim).filter(|f| !f.is_empty()) {
+        let width = field.chars().count();
         let needed = if line.is_empty() {
-            word.len()
+            width
         } else {
-            line.len() + 1 + word.len()
+            line.chars().count() + 2 + width
+        };
+        if needed <= columns {
+            if !line.is_empty() {
+                line.push_str("  ");
+            }
+            line.push_str(field);
+            continue;
+        }
+        if !line.is_empty() {
+            lines.push(std::mem::take(&mut line));
+        }
+        if width <= columns {
+            line.push_str(field);
+        } else {
+            // A field too long for any line: break it at its spaces and keep
+            // its last piece open for the next field.
+            let mut pieces = wrap_words(field, columns);
+            line = pieces.pop().unwrap_or_default();
+            lines.extend(pieces);
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// Break `text` at single spaces into lines of at most `columns` characters,
+/// cutting words longer than a line.
+fn wrap_words(text: &str, columns: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        let needed = if line.is_empty() {
+            word.chars().count()
+        } else {
+            line.chars().count() + 1 + word.chars().count()
         };
         if needed > columns && !line.is_empty() {
-            lines.push(std::mem::take(&mut line).trim_end().to_string());
+            lines.push(std::mem::take(&mut line));
         }
         if !line.is_empty() {
             line.push(' ');
@@ -68,8 +108,8 @@ pub fn wrap(text: &str, columns: usize) -> Vec<String> {
             lines.push(cut);
         }
     }
-    if !line.trim().is_empty() {
-        lines.push(line.trim_end().to_string());
+    if !line.is_empty() {
+        lines.push(line);
     }
     lines
 }
@@ -102,5 +142,30 @@ mod tests {
         for line in wrap("scene: x.nff  512x512  kernel: packet8  threads: 2", 12) {
             assert!(line.len() <= 12 && !line.starts_with(' '), "{line:?}");
         }
+    }
+
+    #[test]
+    fn captions_break_between_fields_not_inside_them() {
+        let caption =
+            "gen:gears  512x512  mode: whitted (depth 5)  threads: 2  setup: 6.0 ms  trace: 356.6 ms";
+        let lines = wrap(caption, 30);
+        assert_eq!(
+            lines,
+            vec![
+                "gen:gears  512x512",
+                "mode: whitted (depth 5)",
+                "threads: 2  setup: 6.0 ms",
+                "trace: 356.6 ms"
+            ]
+        );
+        // Every field of the caption is whole on one line.
+        for field in caption.split("  ") {
+            assert!(lines.iter().any(|l| l.contains(field)), "{field} was split");
+        }
+        // A field wider than a line still wraps at its own spaces.
+        assert_eq!(
+            wrap("traversal: 11.0 nodes/ray  x", 16),
+            vec!["traversal: 11.0", "nodes/ray  x"]
+        );
     }
 }
