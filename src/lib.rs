@@ -22,6 +22,7 @@ pub mod engine;
 pub mod geometry;
 pub mod huge_pages;
 pub mod packet;
+pub mod picture;
 pub mod plural;
 pub mod ray;
 pub mod render;

@@ -25,6 +25,7 @@ const LAYERS: &[&[&str]] = &[
     &["accel"],
     &["embree"],
     &["render"],
+    &["picture"],
     &["compare"],
     &["bench"],
     &["cli"],

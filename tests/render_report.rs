@@ -5,9 +5,10 @@ mod render_support;
 
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
-use raypack::render::annotate::{HeatMapKind, annotate_render};
+use raypack::picture::annotate::annotate_render;
+use raypack::picture::heat_map::HeatMapKind;
+use raypack::picture::report::{RenderReport, RunInfo};
 use raypack::render::engine::Engine;
-use raypack::render::report::{RenderReport, RunInfo};
 use raypack::render::{Block, Counting, KernelKind, Mode, RenderSettings, Sampling, render_counted};
 
 #[test]

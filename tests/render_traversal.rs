@@ -13,7 +13,8 @@ use raypack::accel::{AccelKind, AccelWithStats, BruteForce, Bvh, TraversalStats}
 use raypack::camera::Camera;
 use raypack::geometry::{Primitive, Sphere};
 use raypack::packet::RayPacket8;
-use raypack::render::annotate::{GAP, HeatMap, HeatMapKind};
+use raypack::picture::annotate::GAP;
+use raypack::picture::heat_map::{HeatMap, HeatMapKind};
 use raypack::render::tiles::tiles;
 use raypack::render::{
     Block, Counting, Grid, KernelKind, Mode, Render, RenderSettings, Sampling, for_each_block, render,
@@ -347,7 +348,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
     let accel = Bvh::new(&scene.primitives);
     let s = settings(Mode::Cast, KernelKind::Packet8, Block::B4x2);
     let plain = render(&scene, &accel, &camera, &s, &pool(), || {});
-    let info = raypack::render::report::RunInfo {
+    let info = raypack::picture::report::RunInfo {
         engine: raypack::render::engine::Engine::Raypack,
         kernel: s.kernel,
         block: s.block,
@@ -360,14 +361,15 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
         setup_seconds: 0.0,
         headlight: false,
     };
-    let report = raypack::render::report::RenderReport::new(&scene, &plain, &info);
+    let report = raypack::picture::report::RenderReport::new(&scene, &plain, &info);
     assert!(
         report
             .caption()
             .join("\n")
             .contains("traversal stats: not counted")
     );
-    let e = raypack::render::annotate::annotate_render(&plain, &report, Some(HeatMapKind::Cost)).unwrap_err();
+    let e =
+        raypack::picture::annotate::annotate_render(&plain, &report, Some(HeatMapKind::Cost)).unwrap_err();
     assert!(e.to_string().contains("traversal statistics"), "{e}");
-    assert!(raypack::render::annotate::annotate_render(&plain, &report, Some(HeatMapKind::Time)).is_ok());
+    assert!(raypack::picture::annotate::annotate_render(&plain, &report, Some(HeatMapKind::Time)).is_ok());
 }

@@ -10,11 +10,12 @@ use crate::atomic_file::AtomicFile;
 use crate::camera::Camera;
 use crate::cli::args::{load_scene, parse_size, scene_camera, thread_pool};
 use crate::cli::{CliError, CliResult};
-use crate::render::annotate::{HeatMapKind, NoPixelCosts, annotate_render};
+use crate::picture::annotate::annotate_render;
+use crate::picture::heat_map::{HeatMapKind, NoPixelCosts};
+use crate::picture::output::png_bytes;
+use crate::picture::progress::Progress;
+use crate::picture::report::{RenderReport, RunInfo};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
-use crate::render::output::png_bytes;
-use crate::render::progress::Progress;
-use crate::render::report::{RenderReport, RunInfo};
 use crate::render::{
     Block, Counting, KernelKind, Mode, Render, RenderSettings, Sampling, render, render_counted,
 };

@@ -14,8 +14,6 @@
 //! pixel. The counter is a type parameter of the tile loop, so [`render`] (and
 //! `bench scene`) compile without it.
 
-pub mod annotate;
-pub mod colormap;
 pub mod counting;
 pub mod engine;
 pub mod frame;
@@ -23,16 +21,12 @@ pub mod grid;
 pub mod kernel;
 pub mod lane_costs;
 pub mod optics;
-pub mod output;
-pub mod progress;
-pub mod report;
 pub mod settings;
 pub mod shade;
 pub mod spd;
 pub mod spd_published;
 pub mod stats;
 pub mod surface;
-pub mod text;
 pub mod tiles;
 pub mod whitted;
 

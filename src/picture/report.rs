@@ -8,7 +8,7 @@
 use std::collections::BTreeMap;
 
 use crate::accel::TraversalStats;
-use crate::render::annotate::HeatMapKind;
+use crate::picture::heat_map::HeatMapKind;
 use crate::render::engine::Engine;
 use crate::render::{Block, KernelKind, Mode, RayCounts, Render};
 use crate::scene::Scene;

@@ -11,21 +11,17 @@
 //! +-------------------------------------------------------------------+
 //! ```
 //!
-//! The time heat map colours each tile by its CPU time per pixel (its time
-//! divided by its pixel count, so the smaller tiles at the right and bottom
-//! edges compare fairly); the cost heat map colours each pixel by the node
-//! visits plus primitive tests of all its rays. Both scales run from 0 to the
-//! 99th percentile of the pixels (labelled `N+` when something lies above it,
-//! and the legend says `p99`), since a few tiles (one preempted, or holding a
-//! deep mirror path) or pixels (grazing rays) cost many times the rest and
-//! would leave everything else black.
+//! The heat maps are [`HeatMap`]s; their legend runs from 0 to the top of the
+//! scale, the 99th percentile of the pixels (labelled `N+` when something lies
+//! above it, and `top: p99`).
 
 use image::{Rgb, RgbImage};
 
-use crate::render::colormap::heat;
-use crate::render::report::RenderReport;
-use crate::render::text;
-use crate::render::{Render, Tile};
+use crate::picture::colormap::heat;
+use crate::picture::heat_map::{HeatMap, HeatMapKind, NoPixelCosts};
+use crate::picture::report::RenderReport;
+use crate::picture::text;
+use crate::render::Render;
 
 /// Space between panels, in pixels: the heat map starts `GAP` pixels right of the render.
 pub const GAP: u32 = 8;
@@ -39,113 +35,9 @@ const INK: Rgb<u8> = Rgb([230, 230, 230]);
 const TICKS: [f64; 3] = [1.0, 0.5, 0.0];
 /// Legend label width in characters, at least.
 const LABEL_COLUMNS: usize = 10;
-/// Percentile of the pixel values at the top of both scales.
-const TOP_PERCENTILE: f64 = 0.99;
-
-/// The top of a heat map's scale: the 99th percentile of `values`, or their
-/// maximum if that percentile is 0 (a map of mostly nothing).
-fn robust_top(values: &[f64]) -> f64 {
-    let mut sorted = values.to_vec();
-    sorted.sort_unstable_by(f64::total_cmp);
-    let rank = (TOP_PERCENTILE * sorted.len() as f64).ceil() as usize;
-    let percentile = sorted.get(rank.max(1) - 1).copied().unwrap_or(0.0);
-    if percentile > 0.0 {
-        percentile
-    } else {
-        sorted.last().copied().unwrap_or(0.0)
-    }
-}
-
-/// What a heat map beside the render shows (`--heatmap time|cost`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum HeatMapKind {
-    /// CPU time per pixel of each tile.
-    Time,
-    /// Traversal cost of each pixel: node visits plus primitive tests of all its rays.
-    Cost,
-}
-
-/// A cost heat map was asked of a render without per-pixel traversal costs.
-#[derive(Clone, Copy, Debug, thiserror::Error)]
-#[error(
-    "cost heat map needs raypack's traversal statistics: render with --engine raypack and without \
-     --no-traversal-stats (or use --heatmap time)"
-)]
-pub struct NoPixelCosts;
-
-/// A value per pixel to show as a heat map, with the legend's unit.
-/// 64 bytes plus 8 per pixel.
-#[derive(Clone, Debug, PartialEq)]
-pub struct HeatMap {
-    width: u32,
-    height: u32,
-    /// Row-major, `width × height`.
-    values: Vec<f64>,
-    /// The value of the brightest colour; larger values get it too.
-    top: f64,
-    unit: &'static str,
-    /// Decimals of the legend's labels.
-    decimals: usize,
-}
-
-impl HeatMap {
-    /// Each tile's CPU time per pixel in microseconds, over the tile's pixels.
-    pub fn tile_times(tiles: &[Tile], seconds: &[f64]) -> Self {
-        let width = tiles.iter().map(|t| t.x + t.width).max().unwrap_or(0);
-        let height = tiles.iter().map(|t| t.y + t.height).max().unwrap_or(0);
-        let mut values = vec![0.0; width as usize * height as usize];
-        for (tile, s) in tiles.iter().zip(seconds) {
-            let us = 1e6 * s / tile.pixels().max(1) as f64;
-            for y in tile.y..tile.y + tile.height {
-                let row = (y * width) as usize;
-                values[row + tile.x as usize..row + (tile.x + tile.width) as usize].fill(us);
-            }
-        }
-        Self {
-            width,
-            height,
-            top: robust_top(&values),
-            values,
-            unit: "us/px",
-            decimals: 3,
-        }
-    }
-
-    /// Each pixel's traversal cost (node visits plus primitive tests), `cost`
-    /// being row-major with `width × height` entries.
-    pub fn pixel_costs(width: u32, height: u32, cost: &[u64]) -> Self {
-        debug_assert_eq!(cost.len(), width as usize * height as usize);
-        let values: Vec<f64> = cost.iter().map(|&c| c as f64).collect();
-        Self {
-            width,
-            height,
-            top: robust_top(&values),
-            values,
-            unit: "nodes+prims/px",
-            decimals: 0,
-        }
-    }
-
-    /// The value of pixel `(x, y)`.
-    pub fn value(&self, x: u32, y: u32) -> f64 {
-        self.values[(y * self.width + x) as usize]
-    }
-
-    /// The largest value (0 for an empty map).
-    pub fn max(&self) -> f64 {
-        self.values.iter().copied().fold(0.0, f64::max)
-    }
-
-    /// The value of the brightest colour: the 99th percentile of the pixels
-    /// (larger values are as bright), or the maximum if that is 0.
-    pub fn top(&self) -> f64 {
-        self.top
-    }
-
-    /// Legend width in pixels at text scale `scale`.
-    fn legend_width(&self, scale: u32) -> u32 {
-        BAR + GAP / 2 + self.unit.len().max(LABEL_COLUMNS) as u32 * text::GLYPH * scale
-    }
+/// Width in pixels of `hm`'s legend at text scale `scale`.
+fn legend_width(hm: &HeatMap, scale: u32) -> u32 {
+    BAR + GAP / 2 + hm.unit().len().max(LABEL_COLUMNS) as u32 * text::GLYPH * scale
 }
 
 /// Text scale for an image `width` pixels wide: 8-pixel glyphs up to 800
@@ -160,7 +52,7 @@ pub fn annotate(render: &RgbImage, caption: &[String], heat_map: Option<&HeatMap
     let (w, h) = render.dimensions();
     let scale = text_scale(w * if heat_map.is_some() { 2 } else { 1 });
     let panel_width = match heat_map {
-        Some(hm) => w + GAP + w + GAP + hm.legend_width(scale) + GAP,
+        Some(hm) => w + GAP + w + GAP + legend_width(hm, scale) + GAP,
         None => w,
     };
     let line_height = text::GLYPH * scale + 4;
@@ -213,17 +105,17 @@ pub fn annotate_render(
 fn draw_heat_map(out: &mut RgbImage, hm: &HeatMap, x0: u32, scale: u32) {
     let top = hm.top();
     let level = |v: f64| if top > 0.0 { (v / top) as f32 } else { 0.0 };
-    for y in 0..hm.height.min(out.height()) {
-        for x in 0..hm.width {
+    for y in 0..hm.height().min(out.height()) {
+        for x in 0..hm.width() {
             if x0 + x < out.width() {
                 out.put_pixel(x0 + x, y, heat(level(hm.value(x, y))));
             }
         }
     }
     // Legend: a vertical bar from the maximum (top) to 0 (bottom), with labels.
-    let bar_x = x0 + hm.width + GAP;
-    for y in 0..hm.height {
-        let color = heat(1.0 - y as f32 / (hm.height.max(2) - 1) as f32);
+    let bar_x = x0 + hm.width() + GAP;
+    for y in 0..hm.height() {
+        let color = heat(1.0 - y as f32 / (hm.height().max(2) - 1) as f32);
         for x in bar_x..bar_x + BAR {
             if x < out.width() {
                 out.put_pixel(x, y, color);
@@ -232,7 +124,7 @@ fn draw_heat_map(out: &mut RgbImage, hm: &HeatMap, x0: u32, scale: u32) {
     }
     let label_x = i64::from(bar_x + BAR + GAP / 2);
     let glyph = i64::from(text::GLYPH * scale);
-    let bottom = i64::from(hm.height) - glyph;
+    let bottom = i64::from(hm.height()) - glyph;
     let clipped = hm.max() > top;
     for f in TICKS {
         let y = ((1.0 - f) * bottom as f64) as i64;
@@ -241,12 +133,12 @@ fn draw_heat_map(out: &mut RgbImage, hm: &HeatMap, x0: u32, scale: u32) {
             out,
             label_x,
             y,
-            &format!("{:.*}{plus}", hm.decimals, f * top),
+            &format!("{:.*}{plus}", hm.decimals(), f * top),
             scale,
             INK,
         );
     }
-    text::draw(out, label_x, bottom / 2 + glyph + 2, hm.unit, scale, INK);
+    text::draw(out, label_x, bottom / 2 + glyph + 2, hm.unit(), scale, INK);
     // Say what the top of the scale is.
     text::draw(out, label_x, bottom / 2 + 2 * glyph + 4, "top: p99", scale, INK);
 }
