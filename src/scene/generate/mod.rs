@@ -114,19 +114,31 @@ impl Kind {
         }
     }
 
+    /// Whether this is one of the Standard Procedural Databases, written from
+    /// its published description (its `--size` is the SPD size factor).
+    pub fn is_spd(self) -> bool {
+        matches!(
+            self,
+            Kind::Sphereflake
+                | Kind::Tetra
+                | Kind::FractalMountain
+                | Kind::Gears
+                | Kind::Rings
+                | Kind::Tree
+                | Kind::Teapot
+        )
+    }
+
     /// What `--size` means.
     pub fn size_meaning(self) -> &'static str {
         match self {
-            Kind::Sphereflake
-            | Kind::Tetra
-            | Kind::FractalMountain
-            | Kind::Gears
-            | Kind::Rings
-            | Kind::Tree
-            | Kind::Teapot => "the SPD size factor",
             Kind::RandomSpheres => "the number of spheres",
             Kind::RandomTriangles => "the number of triangles",
             Kind::Terrain => "the subdivision level",
+            spd => {
+                debug_assert!(spd.is_spd());
+                "the SPD size factor"
+            }
         }
     }
 
@@ -319,16 +331,7 @@ impl Params {
         let mut nff = NffWriter::new(out);
         nff.comment(&self.title())?;
         nff.comment(&format!("Made by: {}", self.command()))?;
-        if matches!(
-            self.kind,
-            Kind::Sphereflake
-                | Kind::Tetra
-                | Kind::FractalMountain
-                | Kind::Gears
-                | Kind::Rings
-                | Kind::Tree
-                | Kind::Teapot
-        ) {
+        if self.kind.is_spd() {
             nff.comment(
                 "Written from the published description of Eric Haines' Standard Procedural Databases.",
             )?;
