@@ -92,11 +92,30 @@ pub trait BlockIntersect {
     /// over the lanes in any order would; true if any lane's hit was recorded.
     fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool;
 
-    /// The packet kernel of lane `i`'s shape (an unused lane is never hit).
-    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>);
+    /// The packet kernel of lane `i`'s shape, recording hits as primitive
+    /// `prim` (an unused lane is never hit).
+    fn intersect_packet_as<G: SimdFloat>(
+        &self,
+        i: usize,
+        rays: &RayPacket<G>,
+        prim: u32,
+        hits: &mut HitPacket<G>,
+    );
+
+    /// Primitive indices of the lanes.
+    fn ids(&self) -> &[u32];
 
     /// Primitive index of lane `i`'s shape.
-    fn id(&self, i: usize) -> u32;
+    #[inline(always)]
+    fn id(&self, i: usize) -> u32 {
+        self.ids()[i]
+    }
+
+    /// The packet kernel of lane `i`'s shape, recording its own primitive index.
+    #[inline(always)]
+    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
+        self.intersect_packet_as(i, rays, self.id(i), hits);
+    }
 }
 
 /// Shapes with their primitive indices, spread over the lanes of a block

@@ -188,16 +188,20 @@ impl<F: SimdFloat> Spheres<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for Spheres<F> {
-    /// Primitive index of lane `i`'s sphere.
     #[inline(always)]
-    fn id(&self, i: usize) -> u32 {
-        self.ids.as_ref()[i]
+    fn ids(&self) -> &[u32] {
+        self.ids.as_ref()
     }
 
-    /// The packet kernel of lane `i`'s sphere (an unused lane is never hit).
     #[inline(always)]
-    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
-        intersect_packet_lane(self, i, rays, self.id(i), hits);
+    fn intersect_packet_as<G: SimdFloat>(
+        &self,
+        i: usize,
+        rays: &RayPacket<G>,
+        prim: u32,
+        hits: &mut HitPacket<G>,
+    ) {
+        intersect_packet_lane(self, i, rays, prim, hits);
     }
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
@@ -225,7 +229,7 @@ impl<F: SimdFloat> BlockIntersect for Spheres<F> {
         // Lanes hit within [t_min, hit.t]; the record's own rule settles among them.
         let candidates = crosses & t.ge(t_min) & t.le(F::splat(hit.t));
         let zero = F::splat(0.0);
-        hit.record_nearest_lane(candidates.bitmask(), t, zero, zero, self.ids.as_ref(), ray.t_min)
+        hit.record_nearest_lane(candidates.bitmask(), t, zero, zero, self.ids(), ray.t_min)
     }
 }
 

@@ -349,16 +349,20 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
-    /// Primitive index of lane `i`'s triangle.
     #[inline(always)]
-    fn id(&self, i: usize) -> u32 {
-        self.ids.as_ref()[i]
+    fn ids(&self) -> &[u32] {
+        self.ids.as_ref()
     }
 
-    /// The packet kernel of lane `i`'s triangle (an unused lane is never hit).
     #[inline(always)]
-    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
-        intersect_packet_lane(self, i, rays, self.id(i), hits);
+    fn intersect_packet_as<G: SimdFloat>(
+        &self,
+        i: usize,
+        rays: &RayPacket<G>,
+        prim: u32,
+        hits: &mut HitPacket<G>,
+    ) {
+        intersect_packet_lane(self, i, rays, prim, hits);
     }
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
@@ -395,7 +399,7 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
             & beta.ge(low)
             & gamma.ge(low)
             & (beta + gamma).le(F::splat(1.0 + EDGE_EPSILON));
-        hit.record_nearest_lane(candidates.bitmask(), t, beta, gamma, self.ids.as_ref(), ray.t_min)
+        hit.record_nearest_lane(candidates.bitmask(), t, beta, gamma, self.ids(), ray.t_min)
     }
 }
 
