@@ -331,6 +331,69 @@ fn rings_tree_and_teapot_small_sizes_and_bad_sizes() {
     }
 }
 
+/// Lattice, shells and jacks (later SPD additions, no published ray counts)
+/// hold the primitives of their SPD descriptions, at the SPD's default size
+/// factors (12, 5, 1) and at small ones, as raypack's reader sees them.
+#[test]
+fn lattice_shells_and_jacks_have_their_described_primitives() {
+    use PrimitiveKind::{Cone, Sphere};
+    for (kind, total, cones, lights) in [
+        (Kind::Lattice, 8281, 6084, 6),
+        (Kind::Shells, 5761, 0, 1),
+        (Kind::Jacks, 9, 3, 1),
+    ] {
+        let params = Params::new(kind, None, None).unwrap();
+        let scene = read(&params.to_nff());
+        assert_eq!(scene.primitives.len(), total, "{kind:?}");
+        assert_eq!(params.primitive_count(), total as u64, "{kind:?}");
+        assert_eq!(count_of(&scene, Cone), cones, "{kind:?}");
+        assert_eq!(count_of(&scene, Sphere), total - cones, "{kind:?}");
+        assert_eq!(scene.lights.len(), lights, "{kind:?}");
+        assert!(scene.camera.expect("a camera").camera().is_ok(), "{kind:?}");
+    }
+    for size in 1..=3u64 {
+        for (kind, count) in [
+            (Kind::Lattice, (size + 1).pow(3) + 3 * size * (size + 1).pow(2)),
+            (Kind::Shells, 180 * (1 << size) + 1),
+            (Kind::Jacks, 9 * ((1 << (3 * size)) - 1) / 7),
+        ] {
+            let text = nff_of(kind, size as u32, None);
+            let nff = parse_nff(&text);
+            assert_eq!(
+                (nff.spheres.len() + nff.cones.len()) as u64,
+                count,
+                "{kind:?} {size}"
+            );
+            assert_eq!(read(&text).primitives.len() as u64, count, "{kind:?} {size}");
+        }
+    }
+    // The lattice's rods stop inside the spheres they join, and never reach the centre.
+    let lattice = parse_nff(&nff_of(Kind::Lattice, 2, None));
+    for (base, _, apex, radius) in &lattice.cones {
+        assert!((radius - 1.0 / 32.0).abs() < 1e-6);
+        let length = (*apex - *base).length();
+        assert!(length > 0.5 - 2.0 * 0.125 && length < 0.5, "{length}");
+    }
+    // Each jack's six spheres sit at its arms' ends: all 9 primitives of size 1
+    // lie within the 0.75 arm plus the 0.15 sphere of the origin.
+    let jacks = parse_nff(&nff_of(Kind::Jacks, 1, None));
+    assert!(
+        jacks
+            .spheres
+            .iter()
+            .all(|(c, r)| (c.length() - 0.75).abs() < 1e-5 && *r == 0.15)
+    );
+    for (kind, bad) in [(Kind::Lattice, 0), (Kind::Shells, 13), (Kind::Jacks, 8)] {
+        assert!(
+            matches!(
+                Params::new(kind, Some(bad), None),
+                Err(GenerateError::SizeOutOfRange { .. })
+            ),
+            "{kind:?} {bad}"
+        );
+    }
+}
+
 #[test]
 fn headers_say_what_and_how() {
     for kind in Kind::ALL {

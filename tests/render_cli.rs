@@ -191,6 +191,7 @@ fn stats_prints_the_spd_counts_as_json_and_the_traversal_work_on_stderr() {
             "eye_hits",
             "reflect_rays",
             "refract_rays",
+            "total_internal_reflections",
             "shadow_rays",
             "shadow_blocked",
         ];

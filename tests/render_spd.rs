@@ -63,6 +63,7 @@ fn spd_counts_of_a_mirror_corridor_follow_from_the_rules() {
         eye_hits: EYE_RAYS,
         reflect_rays: 4 * EYE_RAYS,
         refract_rays: 0,
+        total_internal_reflections: 0,
         shadow_rays: 5 * EYE_RAYS,
         shadow_blocked: 0,
     };

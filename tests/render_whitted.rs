@@ -177,3 +177,44 @@ fn glass_spheres_refract_in_and_out() {
     let c = r.frame.color[r.frame.index(20, 20)];
     assert!((c - scene.background).length() < 1e-6, "{c}");
 }
+
+/// Glass (T = 1, ior 1.5, Ks = 0) filling the half-space below `y = 0`, seen
+/// from inside it at `eye` looking at `center`, 3×3 pixels, no lights.
+fn glass_below(eye: Vec3, center: Vec3) -> Scene {
+    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 0.0, 0.0, 0.0, 1.0, 1.5)]);
+    scene.push(Primitive::Plane(Plane::implicit(0.0, 1.0, 0.0, 0.0).unwrap()), 0);
+    scene.camera = Some(CameraSpec {
+        up: Vec3::Z,
+        ..camera(eye, center, 3)
+    });
+    scene
+}
+
+#[test]
+fn total_internal_reflections_count_as_refraction_rays_in_the_spd_tally() {
+    // From (0, −1, 0) towards (2, 0, 0) every eye ray meets the surface from inside at 48°–78°
+    // from the normal, beyond the critical angle asin(1/1.5) = 41.8°: total
+    // internal reflection, so one reflection ray each (down into the void) and
+    // no refraction ray, but the SPD's table counts one there (rule 9 as
+    // Haines tallies it; see RayCounts::spd_refract_rays).
+    let r = trace_both(&glass_below(-Vec3::Y, Vec3::new(2.0, 0.0, 0.0)), 5);
+    assert_eq!(r.counts.eye_hits, 9);
+    assert_eq!(r.counts.reflect_rays, 9);
+    assert_eq!(r.counts.refract_rays, 0);
+    assert_eq!(r.counts.total_internal_reflections, 9);
+    assert_eq!(r.counts.spd_refract_rays(), 9);
+    assert_eq!(r.counts.total(), 9 + 9);
+    // Nearly along the normal (11° ± 16°) every ray gets out: no TIR.
+    let r = trace_both(&glass_below(-3.0 * Vec3::Y, Vec3::new(0.6, 0.0, 0.0)), 5);
+    assert_eq!(
+        (r.counts.reflect_rays, r.counts.refract_rays),
+        (9, 9),
+        "{:?}",
+        r.counts
+    );
+    assert_eq!(r.counts.total_internal_reflections, 0);
+    assert_eq!(r.counts.spd_refract_rays(), 9);
+    // At the depth limit nothing is spawned, so nothing is counted.
+    let r = trace_both(&glass_below(-Vec3::Y, Vec3::new(2.0, 0.0, 0.0)), 1);
+    assert_eq!(r.counts.reflect_rays + r.counts.spd_refract_rays(), 0);
+}

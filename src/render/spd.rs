@@ -3,7 +3,8 @@
 //! a 512×512 image with eye rays through the pixel *corners* (513×513 rays),
 //! Whitted tracing to depth 5 (the eye ray is depth 1), a reflection ray at
 //! every hit on Ks > 0 or T > 0, a refraction ray at every hit on T > 0 (only
-//! the reflection on total internal reflection), no shadow ray where the normal
+//! the reflection on total internal reflection, which the published table still
+//! counts as a refraction ray: [`RayCounts::spd_refract_rays`]), no shadow ray where the normal
 //! faces away from the light, no adaptive depth cut-off. The published counts
 //! and the comparison with them are in [`crate::render::spd_published`].
 //!

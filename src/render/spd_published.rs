@@ -12,6 +12,11 @@
 //!   (reflected and refracted together), shadow rays and blocked shadow rays.
 //!   Only their gears figures are at hand here (as quoted in raypack's issue
 //!   16); the other scenes print no Havran column.
+//!
+//! raypack's refract rays are compared in Haines' tally
+//! ([`RayCounts::spd_refract_rays`]: total internal reflections count as
+//! refraction rays), in the refract and the secondary row alike; the row
+//! "of which TIR" gives how many that adds.
 
 use crate::render::RayCounts;
 
@@ -113,7 +118,7 @@ impl Published {
     /// Rows comparing `counts` with the published figures, one per count.
     pub fn compare(&self, counts: &RayCounts) -> Vec<Row> {
         let havran = self.havran;
-        let secondary = counts.reflect_rays + counts.refract_rays;
+        let secondary = counts.reflect_rays + counts.spd_refract_rays();
         vec![
             Row::new("eye rays", counts.eye_rays, Some(EYE_RAYS), Some(EYE_RAYS)),
             Row::new(
@@ -123,7 +128,13 @@ impl Published {
                 havran.map(|h| h.eye_hits),
             ),
             Row::new("reflect rays", counts.reflect_rays, Some(self.reflect_rays), None),
-            Row::new("refract rays", counts.refract_rays, Some(self.refract_rays), None),
+            Row::new(
+                "refract rays",
+                counts.spd_refract_rays(),
+                Some(self.refract_rays),
+                None,
+            ),
+            Row::new("  of which TIR", counts.total_internal_reflections, None, None),
             Row::new(
                 "secondary rays",
                 secondary,
@@ -248,11 +259,13 @@ mod tests {
             eye_hits: 245_086,
             reflect_rays: 304_643,
             refract_rays: 89_000,
+            total_internal_reflections: 1_000,
             shadow_rays: 2_246_955,
             shadow_blocked: 1_000_000,
         };
         let rows = gears.compare(&counts);
         let refract = rows.iter().find(|r| r.label == "refract rays").unwrap();
+        assert_eq!(refract.ours, 90_000);
         assert!(!refract.within_tolerance());
         assert!(
             rows.iter()

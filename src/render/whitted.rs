@@ -179,6 +179,10 @@ impl<A: CountedAccel> Tracer<'_, A> {
         for i in lanes(hit_mask) {
             let s = surfaces[i].as_ref().expect("hit lane");
             let scatter = optics::scatter(rays[i].dir, s.normal, s.material, s.front);
+            // Total internal reflection: counted apart, for the SPD's tally.
+            if s.material.transmittance > 0.0 && scatter.refract.is_none() {
+                tally.rays.total_internal_reflections += 1;
+            }
             reflect.set(i, s.point, scatter.reflect, self.epsilon);
             refract.set(i, s.point, scatter.refract, self.epsilon);
         }

@@ -1,7 +1,9 @@
-//! Scene generators, written as NFF text: six of Eric Haines' Standard
+//! Scene generators, written as NFF text: the seven scenes of Eric Haines' Standard
 //! Procedural Databases ("A Proposal for Standard Graphics Environments", IEEE
 //! CG&A 7(11), 1987; `teapot` from SPD 3.0, 1990), written here from their
-//! published descriptions, so their published ray statistics apply; and three
+//! published descriptions, so their published ray statistics apply; the three
+//! later SPD additions without published statistics (`lattice`, `shells`,
+//! `jacks`); and three
 //! families that scale smoothly from 10² to 10⁶ primitives of one known kind.
 //!
 //! | kind | `--size` means | default | primitives |
@@ -13,6 +15,9 @@
 //! | `rings` | SPD size factor | 7 | `5n(n+1)(2n+1)` cylinders and as many spheres + 1 polygon (8401) |
 //! | `tree` | SPD size factor | 11 | `2^(n+1) − 1` cones and as many spheres + 1 polygon (8191) |
 //! | `teapot` | SPD size factor | 12 | `64n² − 8n` smooth triangles + `n²` polygons (9264) |
+//! | `lattice` | SPD size factor | 12 | `(n+1)³` spheres + `3n(n+1)²` cylinders (8281) |
+//! | `shells` | SPD size factor | 5 | `180·2ⁿ + 1` spheres (5761) |
+//! | `jacks` | SPD size factor | 1 | `9·(8ⁿ − 1)/7`: 3 cylinders + 6 spheres per jack (9) |
 //! | `random-spheres` | sphere count | 10000 | `n` spheres |
 //! | `random-triangles` | triangle count | 10000 | `n` triangles |
 //! | `terrain` | subdivision level | 6 | `2·4^n` triangles (8192) |
@@ -20,18 +25,22 @@
 //! The SPD size factors of balls, tetra and mount follow the 1987 distribution,
 //! where 4 is the classic scene (SPD 3.x renumbered tetra and mount: its 6 is
 //! this 4); rings, tree and teapot keep the SPD's own factors, whose defaults
-//! above give the primitive counts of its published statistics.
+//! above give the primitive counts of its published statistics, and lattice,
+//! shells and jacks the SPD's own factors and defaults.
 //! The random kinds and the terrain are seeded with [`crate::rng::Rng`]; the
 //! mountain's `--seed` is the SPD's mountain number. Each file starts with `#`
 //! comments saying what it is and the command that made it.
 
 mod gears;
+mod jacks;
+mod lattice;
 mod mountain;
 pub mod nff_writer;
 pub mod random;
 mod random_spheres;
 mod random_triangles;
 mod rings;
+mod shells;
 mod sphereflake;
 mod studio;
 mod teapot;
@@ -75,6 +84,12 @@ pub enum Kind {
     Tree,
     /// SPD `teapot`: the Newell teapot's patches as smooth triangles on a checkerboard.
     Teapot,
+    /// SPD `lattice`: shiny spheres joined by matte cylinders in a cubic lattice.
+    Lattice,
+    /// SPD `shells`: a spiral seashell of overlapping spheres.
+    Shells,
+    /// SPD `jacks`: a jack of cylinders and spheres with smaller jacks in its octants, recursively.
+    Jacks,
     /// Spheres at random in a cube.
     RandomSpheres,
     /// Triangles at random in a cube.
@@ -85,7 +100,7 @@ pub enum Kind {
 
 impl Kind {
     /// Every kind, in the order of the table above.
-    pub const ALL: [Kind; 10] = [
+    pub const ALL: [Kind; 13] = [
         Kind::Sphereflake,
         Kind::Tetra,
         Kind::FractalMountain,
@@ -93,6 +108,9 @@ impl Kind {
         Kind::Rings,
         Kind::Tree,
         Kind::Teapot,
+        Kind::Lattice,
+        Kind::Shells,
+        Kind::Jacks,
         Kind::RandomSpheres,
         Kind::RandomTriangles,
         Kind::Terrain,
@@ -108,6 +126,9 @@ impl Kind {
             Kind::Rings => "rings",
             Kind::Tree => "tree",
             Kind::Teapot => "teapot",
+            Kind::Lattice => "lattice",
+            Kind::Shells => "shells",
+            Kind::Jacks => "jacks",
             Kind::RandomSpheres => "random-spheres",
             Kind::RandomTriangles => "random-triangles",
             Kind::Terrain => "terrain",
@@ -126,6 +147,9 @@ impl Kind {
                 | Kind::Rings
                 | Kind::Tree
                 | Kind::Teapot
+                | Kind::Lattice
+                | Kind::Shells
+                | Kind::Jacks
         )
     }
 
@@ -152,6 +176,9 @@ impl Kind {
             Kind::Rings => 1..=50,
             Kind::Tree => 0..=20,
             Kind::Teapot => 1..=200,
+            Kind::Lattice => 1..=60,
+            Kind::Shells => 0..=12,
+            Kind::Jacks => 1..=7,
             Kind::RandomSpheres | Kind::RandomTriangles => 1..=MAX_COUNT,
             Kind::Terrain => 0..=10,
         }
@@ -163,7 +190,9 @@ impl Kind {
             Kind::Sphereflake | Kind::Tetra | Kind::FractalMountain | Kind::Gears => 4,
             Kind::Rings => 7,
             Kind::Tree => 11,
-            Kind::Teapot => 12,
+            Kind::Teapot | Kind::Lattice => 12,
+            Kind::Shells => 5,
+            Kind::Jacks => 1,
             Kind::RandomSpheres | Kind::RandomTriangles => 10_000,
             Kind::Terrain => 6,
         }
@@ -172,7 +201,15 @@ impl Kind {
     /// The `--seed` values accepted; None for kinds that are not random.
     pub fn seeds(self) -> Option<RangeInclusive<u64>> {
         match self {
-            Kind::Sphereflake | Kind::Tetra | Kind::Gears | Kind::Rings | Kind::Tree | Kind::Teapot => None,
+            Kind::Sphereflake
+            | Kind::Tetra
+            | Kind::Gears
+            | Kind::Rings
+            | Kind::Tree
+            | Kind::Teapot
+            | Kind::Lattice
+            | Kind::Shells
+            | Kind::Jacks => None,
             Kind::FractalMountain => Some(0..=mountain::MAX_MOUNTAIN),
             Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(0..=u64::MAX),
         }
@@ -181,7 +218,15 @@ impl Kind {
     /// `--seed` when none is given.
     pub fn default_seed(self) -> Option<u64> {
         match self {
-            Kind::Sphereflake | Kind::Tetra | Kind::Gears | Kind::Rings | Kind::Tree | Kind::Teapot => None,
+            Kind::Sphereflake
+            | Kind::Tetra
+            | Kind::Gears
+            | Kind::Rings
+            | Kind::Tree
+            | Kind::Teapot
+            | Kind::Lattice
+            | Kind::Shells
+            | Kind::Jacks => None,
             Kind::FractalMountain => Some(mountain::DEFAULT_MOUNTAIN),
             Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(DEFAULT_SEED),
         }
@@ -270,6 +315,9 @@ impl Params {
             Kind::Rings => rings::primitive_count(self.size),
             Kind::Tree => tree::primitive_count(self.size),
             Kind::Teapot => teapot::primitive_count(self.size),
+            Kind::Lattice => lattice::primitive_count(self.size),
+            Kind::Shells => shells::primitive_count(self.size),
+            Kind::Jacks => jacks::primitive_count(self.size),
             Kind::RandomSpheres | Kind::RandomTriangles => u64::from(self.size),
             Kind::Terrain => terrain::primitive_count(self.size),
         }
@@ -317,6 +365,18 @@ impl Params {
                 count - u64::from(n * n),
                 n * n
             ),
+            Kind::Lattice => {
+                let spheres = u64::from(n + 1).pow(3);
+                format!(
+                    "SPD `lattice`, size factor {n}: {spheres} shiny spheres + {} matte cylinders, 6 lights",
+                    count - spheres
+                )
+            }
+            Kind::Shells => format!("SPD `shells`, size factor {n}: {count} spheres on a spiral, 1 light"),
+            Kind::Jacks => format!(
+                "SPD `jacks`, size factor {n}: {} jacks of 3 cylinders + 6 spheres, 1 light",
+                count / 9
+            ),
             Kind::RandomSpheres => format!("{count} random spheres in [-1, 1]^3, seed {seed}, 3 lights"),
             Kind::RandomTriangles => format!("{count} random triangles in [-1, 1]^3, seed {seed}, 3 lights"),
             Kind::Terrain => {
@@ -345,6 +405,9 @@ impl Params {
             Kind::Rings => rings::write(self.size, &mut nff)?,
             Kind::Tree => tree::write(self.size, &mut nff)?,
             Kind::Teapot => teapot::write(self.size, &mut nff)?,
+            Kind::Lattice => lattice::write(self.size, &mut nff)?,
+            Kind::Shells => shells::write(self.size, &mut nff)?,
+            Kind::Jacks => jacks::write(self.size, &mut nff)?,
             Kind::RandomSpheres => random_spheres::write(self.size, seed, &mut nff)?,
             Kind::RandomTriangles => random_triangles::write(self.size, seed, &mut nff)?,
             Kind::Terrain => terrain::write(self.size, seed, &mut nff)?,
