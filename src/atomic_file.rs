@@ -8,11 +8,45 @@
 //! removed when dropped uncommitted, on every exit path. It is created with
 //! mode `0o666` less the umask, like any file a program writes (tempfile's
 //! default, `0o600`, would make the image private after the rename).
+//!
+//! A run stopped by a signal (SIGINT, SIGTERM, SIGHUP: Ctrl-C, `timeout`, a
+//! closed terminal) runs no destructors, so every temporary in flight is also
+//! listed in [`IN_FLIGHT`], and [`remove_temporaries_on_signals`] starts a
+//! thread that removes them when such a signal arrives and then exits with
+//! `128 + signal`, as the shell reports a process killed by it. (SIGKILL
+//! cannot be caught; nothing can clean up after it.)
 
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use tempfile::NamedTempFile;
+
+/// The temporary files being written, for the signal thread to remove.
+static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The list of temporaries, even if a thread panicked while holding it.
+fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    IN_FLIGHT.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Remove every temporary in flight when SIGINT, SIGTERM or SIGHUP arrives,
+/// then exit with `128 + signal`. Call once, early in `main`.
+pub fn remove_temporaries_on_signals() -> io::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])?;
+    std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                for temp in in_flight().drain(..) {
+                    let _ = std::fs::remove_file(temp);
+                }
+                std::process::exit(128 + signal);
+            }
+        })?;
+    Ok(())
+}
 
 /// An output file that cannot be written, naming the path and the reason.
 /// 48 bytes plus the strings.
@@ -36,11 +70,15 @@ impl OutputError {
 }
 
 /// A file being written: create it before the work (so an unwritable path fails
-/// at once), [`commit`](AtomicFile::commit) the bytes after. 56 bytes plus the paths.
+/// at once), [`commit`](AtomicFile::commit) the bytes after. Dropped
+/// uncommitted, it leaves nothing behind. 80 bytes plus the paths.
 #[derive(Debug)]
 pub struct AtomicFile {
     path: PathBuf,
-    temp: NamedTempFile,
+    /// The temporary until it is committed.
+    temp: Option<NamedTempFile>,
+    /// Its path, as listed in [`IN_FLIGHT`].
+    temp_path: PathBuf,
 }
 
 impl AtomicFile {
@@ -71,9 +109,12 @@ impl AtomicFile {
             .suffix(".tmp")
             .tempfile_in(dir)
             .map_err(|e| OutputError::new(path, e))?;
+        let temp_path = temp.path().to_path_buf();
+        in_flight().push(temp_path.clone());
         Ok(Self {
             path: path.to_path_buf(),
-            temp,
+            temp: Some(temp),
+            temp_path,
         })
     }
 
@@ -88,20 +129,26 @@ impl AtomicFile {
         mut self,
         write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
     ) -> Result<(), OutputError> {
-        let path = self.path;
-        let mut out = BufWriter::new(self.temp.as_file_mut());
+        let path = self.path.clone();
+        let mut temp = self.temp.take().expect("an AtomicFile is committed once");
+        let mut out = BufWriter::new(temp.as_file_mut());
         write(&mut out)
             .and_then(|()| out.flush())
             .map_err(|e| OutputError::new(&path, e))?;
         drop(out);
-        self.temp
-            .as_file()
+        temp.as_file()
             .sync_all()
             .map_err(|e| OutputError::new(&path, e))?;
-        self.temp
-            .persist(&path)
+        temp.persist(&path)
             .map_err(|e| OutputError::new(&path, e.error))?;
         Ok(())
+    }
+}
+
+impl Drop for AtomicFile {
+    /// Off the in-flight list: committed (renamed) or removed by `tempfile`.
+    fn drop(&mut self) {
+        in_flight().retain(|p| *p != self.temp_path);
     }
 }
 

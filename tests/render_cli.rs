@@ -260,3 +260,76 @@ fn a_scene_without_lights_gets_a_headlight_unless_told_not_to() {
     assert_eq!(normals["lights"].as_u64(), Some(0));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// An image larger than the memory its buffers need is refused up front
+/// (exit 2), and nothing is left beside the target.
+#[test]
+fn an_image_too_large_for_memory_is_refused_before_any_work() {
+    let dir = scratch("huge");
+    let out = dir.join("huge.png");
+    let o = raypack(&[
+        "render",
+        "scenes/spd_tetra_small.nff",
+        "--size",
+        "65536x65536",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("needs about 206.2 GB"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "nothing written");
+}
+
+/// A render stopped by SIGTERM (as `timeout` sends) or SIGINT (Ctrl-C)
+/// removes its temporary outputs and exits with 128 + the signal.
+#[test]
+fn a_render_stopped_by_a_signal_leaves_no_temporary_behind() {
+    for (signal, name) in [(libc::SIGTERM, "term"), (libc::SIGINT, "int")] {
+        let dir = scratch(&format!("signal-{name}"));
+        let out = dir.join("gears.png");
+        let json = dir.join("gears.json");
+        // Long enough to be in flight when the signal comes: SPD gears at
+        // 4000x4000 on one thread takes tens of seconds.
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_raypack"))
+            .args(["render", "gen:gears", "--size", "4000x4000", "--threads", "1"])
+            .args([
+                "-o",
+                out.to_str().unwrap(),
+                "--stats-json",
+                json.to_str().unwrap(),
+            ])
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        // Wait until both temporaries exist, i.e. the render has claimed its outputs.
+        let temporaries = || {
+            std::fs::read_dir(&dir)
+                .unwrap()
+                .filter(|e| {
+                    e.as_ref()
+                        .unwrap()
+                        .file_name()
+                        .to_string_lossy()
+                        .ends_with(".tmp")
+                })
+                .count()
+        };
+        let start = std::time::Instant::now();
+        while temporaries() < 2 {
+            assert!(
+                start.elapsed().as_secs() < 60,
+                "the render never claimed its outputs"
+            );
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        // SAFETY: `kill` only sends a signal to the child we spawned and still own.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, signal) }, 0);
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(128 + signal), "{name}: {status:?}");
+        let left: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert!(left.is_empty(), "{name}: left behind {left:?}");
+    }
+}

@@ -54,6 +54,61 @@ pub fn scene_camera(scene: &Scene, path: &Path, size: Option<(u32, u32)>) -> Res
         .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))
 }
 
+/// Bytes a render keeps per pixel, at most: the frame's colour (12), its
+/// 8-bit image (3), the annotated picture with a heat map beside it (6), the
+/// heat map's values (8), per-pixel traversal costs (8), the encoded PNG (3),
+/// rounded up for the caption band and slack.
+pub const BYTES_PER_PIXEL: u64 = 48;
+
+/// Memory the image buffers may take where the system does not say how much is
+/// available (no `/proc/meminfo`): 16 GiB.
+const FALLBACK_MEMORY: u64 = 16 << 30;
+
+/// The memory available to a new allocation: Linux's `MemAvailable`.
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuse, before any work, an image of `width × height` whose buffers
+/// ([`BYTES_PER_PIXEL`] each) would not fit in the memory available, so a huge
+/// `--size` is a clear error (exit 2) rather than an aborted allocation; say
+/// on stderr how large a large one is, since it may run for minutes.
+pub fn check_image_memory(width: u32, height: u32) -> Result<(), CliError> {
+    let (available, source) = match available_memory() {
+        Some(m) => (m, "MemAvailable"),
+        None => (FALLBACK_MEMORY, "raypack's cap where the system does not say"),
+    };
+    image_fits(width, height, available, source).map_err(|e| CliError::BadInput(anyhow::anyhow!(e)))?;
+    let pixels = u64::from(width) * u64::from(height);
+    if pixels >= 1 << 24 {
+        eprintln!(
+            "note: rendering {width}x{height} ({:.0} M pixels, about {:.1} GB of buffers)",
+            pixels as f64 / 1e6,
+            (pixels * BYTES_PER_PIXEL) as f64 / 1e9
+        );
+    }
+    Ok(())
+}
+
+/// Whether the buffers of a `width × height` image fit in `available` bytes
+/// (as `source` counts them); the refusal says by how much they do not.
+fn image_fits(width: u32, height: u32, available: u64, source: &str) -> Result<(), String> {
+    let needed = u64::from(width) * u64::from(height) * BYTES_PER_PIXEL;
+    let gb = |b: u64| b as f64 / 1e9;
+    if needed > available {
+        return Err(format!(
+            "a {width}x{height} image needs about {:.1} GB for its buffers ({BYTES_PER_PIXEL} B per pixel), \
+             more than the {:.1} GB of memory available ({source}): render a smaller --size",
+            gb(needed),
+            gb(available)
+        ));
+    }
+    Ok(())
+}
+
 /// The Embree scene of `scene` on a device made with `config`.
 #[cfg(feature = "embree")]
 pub fn embree_scene(
@@ -74,6 +129,21 @@ pub fn embree_scene(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn images_larger_than_memory_are_refused_and_small_ones_pass() {
+        let four_gb = 4_000_000_000;
+        assert!(image_fits(64, 64, four_gb, "test").is_ok());
+        assert!(image_fits(8000, 8000, four_gb, "test").is_ok());
+        let msg = image_fits(65536, 65536, four_gb, "test").unwrap_err();
+        assert!(
+            msg.contains("206.2 GB") && msg.contains("4.0 GB") && msg.contains("--size"),
+            "{msg}"
+        );
+        assert!(image_fits(20000, 20000, four_gb, "test").is_err());
+        // This machine's own check passes a small image.
+        assert!(check_image_memory(64, 64).is_ok());
+    }
 
     #[test]
     fn sizes_parse_and_bad_ones_say_what_was_expected() {

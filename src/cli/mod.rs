@@ -49,6 +49,10 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 /// Parse the command line and run it.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // A run stopped by Ctrl-C or `timeout` leaves no temporary output behind.
+    if let Err(e) = crate::atomic_file::remove_temporaries_on_signals() {
+        eprintln!("warning: cannot watch for signals ({e}): an interrupted run may leave a .tmp file");
+    }
     let result = match cli.command {
         Command::Bench(cmd) => bench::run(cmd),
         Command::Gen(args) => r#gen::run(args),

@@ -8,7 +8,7 @@ use clap::Args as ClapArgs;
 use crate::accel::{Accel, CountedAccel};
 use crate::atomic_file::AtomicFile;
 use crate::camera::Camera;
-use crate::cli::args::{load_scene, parse_size, scene_camera, thread_pool};
+use crate::cli::args::{check_image_memory, load_scene, parse_size, scene_camera, thread_pool};
 use crate::cli::{CliError, CliResult};
 use crate::picture::annotate::annotate_render;
 use crate::picture::heat_map::{HeatMapKind, NoPixelCosts};
@@ -147,6 +147,7 @@ pub fn run(args: Args) -> CliResult {
 
     let (mut scene, load_seconds) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, &args.scene, args.size)?;
+    check_image_memory(camera.width, camera.height)?;
     // PLY and OBJ meshes carry no lights, and an NFF file may have none; in
     // whitted mode such a scene would show flat ambient grey.
     let headlight = args.mode == Mode::Whitted && scene.lights.is_empty() && !args.no_headlight;
