@@ -139,6 +139,17 @@ impl<F: SimdFloat> HitPacket<F> {
         self.v = mask.select(v, self.v);
     }
 
+    /// Record hits without surface coordinates (u = v = 0) in the lanes of
+    /// `mask`: clearing u and v takes a bitwise and-not each where a general
+    /// [`record`](Self::record) blends two values.
+    #[inline(always)]
+    pub fn record_without_uv(&mut self, mask: F, t: F, prim: u32) {
+        self.t = mask.select(t, self.t);
+        self.prim = F::U32::select(mask, F::U32::splat(prim), self.prim);
+        self.u = self.u.and_not(mask);
+        self.v = self.v.and_not(mask);
+    }
+
     /// The mask of lanes that hit something.
     #[inline]
     pub fn hit_mask(&self) -> F {

@@ -148,8 +148,7 @@ fn intersect_packet_lane<F: SimdFloat, S: SphereLane>(
     let near = if sphere.inside_only(i) { b + s } else { b - s };
     let t = near.ge(rays.t_min).select(near, b + s);
     let mask = hits.accepts(rays, t, prim) & crosses;
-    let zero = F::splat(0.0);
-    hits.record(mask, t, prim, zero, zero);
+    hits.record_without_uv(mask, t, prim);
 }
 
 /// Up to `F::LANES` spheres in structure-of-arrays form, each lane with the
