@@ -50,6 +50,21 @@ pub mod wide;
 
 pub use build_sah::{BuildOptions, MAX_DEPTH};
 
+/// Most bytes of a child [`Bvh::prefetch`] asks for.
+const PREFETCH_BYTES: usize = 256;
+
+/// Ask the CPU to load the cache line holding `p` (a hint: any address is fine).
+#[inline(always)]
+fn prefetch_line(p: *const u8) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is a hint that never faults, whatever the address.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(p.cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
 use crate::accel::Accel;
 use crate::accel::stats::{AccelWithStats, CountedAccel, Counter, NoStats};
 use crate::bounds::Aabb;
@@ -236,6 +251,37 @@ impl Bvh {
         match self.wide_twin[id as usize] {
             u32::MAX => None,
             at => Some(wide::ChildRef::inner(at)),
+        }
+    }
+
+    /// Start loading what `child` leads to into the cache: the wide node's
+    /// lines, or the first lines of the leaf's blocks.
+    #[inline(always)]
+    pub fn prefetch(&self, child: wide::ChildRef) {
+        let (start, bytes) = if !child.is_leaf() {
+            let node = self.wide.as_ptr().wrapping_add(child.node());
+            (node.cast::<u8>(), size_of::<wide::WideNode>())
+        } else {
+            match child.contents() {
+                LeafRef::Triangles { blocks, .. } => (
+                    self.triangle_blocks
+                        .as_ptr()
+                        .wrapping_add(blocks.start)
+                        .cast::<u8>(),
+                    blocks.len() * size_of::<TriangleBlock>(),
+                ),
+                LeafRef::Spheres { blocks, .. } => (
+                    self.sphere_blocks
+                        .as_ptr()
+                        .wrapping_add(blocks.start)
+                        .cast::<u8>(),
+                    blocks.len() * size_of::<SphereBlock>(),
+                ),
+                LeafRef::Prims(_) => return,
+            }
+        };
+        for line in (0..bytes.min(PREFETCH_BYTES)).step_by(64) {
+            prefetch_line(start.wrapping_add(line));
         }
     }
 
