@@ -85,8 +85,6 @@ pub struct Bvh {
     pairs: Vec<NodePair>,
     /// The same tree collapsed to wide nodes, which single rays traverse.
     wide: Vec<wide::WideNode>,
-    /// Per binary node, the wide node made from it (see [`wide::Collapsed::twin`]).
-    wide_twin: Vec<u32>,
     /// The records of leaves that are neither all triangles nor all spheres,
     /// in leaf order (a leaf is a contiguous run).
     prims: Vec<LeafPrim>,
@@ -212,7 +210,6 @@ impl Bvh {
         let mut bvh = Self {
             pairs,
             wide: Vec::new(),
-            wide_twin: Vec::new(),
             prims: leaf_prims,
             triangle_blocks,
             sphere_blocks,
@@ -223,7 +220,7 @@ impl Bvh {
             skipped,
         };
         let collapsed = wide::collapse(&bvh);
-        (bvh.wide, bvh.wide_twin) = (collapsed.nodes, collapsed.twin);
+        bvh.wide = collapsed.nodes;
         bvh
     }
 
@@ -237,21 +234,6 @@ impl Bvh {
     #[inline(always)]
     pub fn pair(&self, pair: u32) -> &NodePair {
         &self.pairs[pair as usize]
-    }
-
-    /// Where a single ray can take over binary node `id` in the wide tree: the
-    /// wide node made from it, or the same leaf; None for a binary node opened
-    /// inside a wide node.
-    #[inline(always)]
-    pub fn wide_twin(&self, id: NodeId) -> Option<wide::ChildRef> {
-        let node = self.node(id);
-        if node.is_leaf() {
-            return Some(wide::ChildRef::leaf(node.first, node.meta));
-        }
-        match self.wide_twin[id as usize] {
-            u32::MAX => None,
-            at => Some(wide::ChildRef::inner(at)),
-        }
     }
 
     /// Start loading what `child` leads to into the cache: the wide node's
@@ -369,7 +351,6 @@ impl Bvh {
             sah_cost: 0.0,
             bytes: self.pairs.len() * size_of::<NodePair>()
                 + self.wide.len() * size_of::<wide::WideNode>()
-                + self.wide_twin.len() * size_of::<u32>()
                 + self.prims.len() * size_of::<LeafPrim>()
                 + self.triangle_blocks.len() * size_of::<TriangleBlock>()
                 + self.sphere_blocks.len() * size_of::<SphereBlock>()
