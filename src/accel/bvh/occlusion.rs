@@ -7,8 +7,8 @@ use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 
 use crate::accel::bvh::ray_box::SlabRay;
-use crate::accel::bvh::traverse_packet::{PacketQuery, lane_groups, traverse_packet};
-use crate::accel::bvh::traverse_single::{INTERLEAVED, RayQuery, traverse, traverse_interleaved};
+use crate::accel::bvh::traverse_packet::{PacketQuery, lane_bits, traverse_packet};
+use crate::accel::bvh::traverse_single::{RayQuery, traverse};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
@@ -93,25 +93,16 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     }
 
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, stats: &mut S) {
-        for (group, n) in lane_groups(lanes) {
-            let rays: [Ray; INTERLEAVED] = group.map(|lane| self.rays.ray(lane));
-            let mut walks: [_; INTERLEAVED] = std::array::from_fn(|k| {
-                let ray = &rays[k];
-                (
-                    group[k],
-                    SlabRay::new(ray),
-                    AnyHit {
-                        ray,
-                        hit: Hit::none(ray),
-                    },
-                )
-            });
-            let occluded = traverse_interleaved(bvh, &mut walks[..n], stats);
-            let bits = group[..n]
-                .iter()
-                .enumerate()
-                .fold(0, |bits, (k, lane)| bits | ((occluded >> k & 1) << lane));
-            self.pending = self.pending.and_not(F::mask_from_bits(bits));
+        for lane in lane_bits(lanes) {
+            stats.lane(lane);
+            let ray = self.rays.ray(lane);
+            let mut query = AnyHit {
+                ray: &ray,
+                hit: Hit::none(&ray),
+            };
+            if traverse(bvh, ChildRef::ROOT, &SlabRay::new(&ray), &mut query, stats) {
+                self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+            }
         }
     }
 }

@@ -8,11 +8,11 @@
 //! - Children are visited near first by the packet's majority direction along the
 //!   node's split axis; a far child is pushed with its lanes' entry t, and lanes
 //!   whose hit has come closer than that are dropped when it is popped.
-//! - An incoherent packet ([`is_coherent`]) is traced as single rays in the
-//!   wide tree, one node visit of each lane in turn ([`traverse_interleaved`]),
-//!   so the lanes' cache misses overlap (Embree's hybrid packets likewise turn
-//!   to single rays as they diverge, Benthin 2012). Coherent packets never
-//!   fall back (see [`is_coherent`]).
+//! - An incoherent packet ([`is_coherent`]) is traced lane by lane as single
+//!   rays in the wide tree from the root (Embree's hybrid packets likewise
+//!   turn to single rays as they diverge, Benthin 2012), which is as fast as
+//!   single rays and faster than dragging sparse packets down the binary tree.
+//!   Coherent packets never fall back (see [`is_coherent`]).
 //!
 //! One loop serves nearest-hit and any-hit queries ([`PacketQuery`]).
 
@@ -24,11 +24,11 @@ use crate::accel::bvh::Bvh;
 use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
-use crate::accel::bvh::traverse_single::{INTERLEAVED, Nearest, traverse_interleaved};
+use crate::accel::bvh::traverse_single::{Nearest, traverse};
+use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
 use crate::packet::{HitPacket, RayPacket};
-use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
 
 /// Cosine of the widest angle (about 8°) between a lane's direction and the
@@ -47,27 +47,16 @@ pub trait PacketQuery<F: SimdFloat> {
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
 
     /// Trace the lanes of the mask `lanes` through the wide tree as single
-    /// rays, interleaved ([`traverse_interleaved`]).
+    /// rays, one after the other (reporting each to [`Counter::lane`]).
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, stats: &mut S);
 }
 
-/// The lanes of the mask `lanes` in groups of up to [`INTERLEAVED`]: each
-/// group's lane numbers (the rest of the array repeats its last) and its size.
-pub fn lane_groups(mut lanes: u32) -> impl Iterator<Item = ([usize; INTERLEAVED], usize)> {
+/// The lanes of the mask `lanes`, lowest first.
+pub fn lane_bits(mut lanes: u32) -> impl Iterator<Item = usize> {
     std::iter::from_fn(move || {
-        if lanes == 0 {
-            return None;
-        }
-        let mut group = [0; INTERLEAVED];
-        let mut n = 0;
-        while lanes != 0 && n < INTERLEAVED {
-            group[n] = lanes.trailing_zeros() as usize;
-            lanes &= lanes - 1;
-            n += 1;
-        }
-        let last = group[n - 1];
-        group[n..].fill(last);
-        Some((group, n))
+        let lane = (lanes != 0).then(|| lanes.trailing_zeros() as usize)?;
+        lanes &= lanes - 1;
+        Some(lane)
     })
 }
 
@@ -90,8 +79,7 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
 /// leaves, where even one or two lanes finish a subtree as a packet faster than
 /// as single rays (measured on primary rays of the dragon: 1.5× faster with no
 /// fallback than with a fallback at 2 lanes), so coherent packets never fall
-/// back; incoherent ones are traced as interleaved single rays (random rays of
-/// the dragon: 1.76× as fast as packet traversal falling back at 2 lanes).
+/// back; incoherent ones are traced as single rays from the root.
 #[inline]
 pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
     let sum = |d: F| {
@@ -228,18 +216,16 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     }
 
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, stats: &mut S) {
-        for (group, n) in lane_groups(lanes) {
-            let rays: [Ray; INTERLEAVED] = group.map(|lane| self.rays.ray(lane));
-            let mut hits: [Hit; INTERLEAVED] = group.map(|lane| self.hits.hit(lane));
-            let mut records = hits.iter_mut();
-            let mut walks: [_; INTERLEAVED] = std::array::from_fn(|k| {
-                let hit = records.next().expect("a record per lane");
-                (group[k], SlabRay::new(&rays[k]), Nearest { ray: &rays[k], hit })
-            });
-            traverse_interleaved(bvh, &mut walks[..n], stats);
-            for (lane, hit) in group[..n].iter().zip(&hits) {
-                self.hits.set_hit(*lane, hit);
-            }
+        for lane in lane_bits(lanes) {
+            stats.lane(lane);
+            let ray = self.rays.ray(lane);
+            let mut hit = self.hits.hit(lane);
+            let mut query = Nearest {
+                ray: &ray,
+                hit: &mut hit,
+            };
+            traverse(bvh, ChildRef::ROOT, &SlabRay::new(&ray), &mut query, stats);
+            self.hits.set_hit(lane, &hit);
         }
     }
 }

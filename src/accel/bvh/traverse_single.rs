@@ -33,82 +33,14 @@ pub fn traverse<Q: RayQuery, S: Counter>(
     query: &mut Q,
     stats: &mut S,
 ) -> bool {
-    let mut walker = Walker::new(start);
+    // Children still to visit, with their entry t.
+    let mut stack = TraversalStack::<(ChildRef, f32), WIDE_STACK_SLOTS>::new();
+    let mut next = start;
     loop {
-        if let Some(ended_early) = walker.step(bvh, slab, query, stats) {
-            return ended_early;
-        }
-    }
-}
-
-/// Most rays [`traverse_interleaved`] walks at once.
-pub const INTERLEAVED: usize = 8;
-
-/// Traverse the whole tree with each ray of
-/// `lanes` (at most [`INTERLEAVED`]: its packet lane, for the counter's
-/// [`Counter::lane`], its slab ray and query), one node visit
-/// of each in turn, so the memory accesses of independent rays overlap (single
-/// rays wait on memory more than on arithmetic; a ray's next visit needs the
-/// node it is at). Returns the mask of the rays whose query ended the
-/// traversal early.
-#[inline]
-pub fn traverse_interleaved<Q: RayQuery, S: Counter>(
-    bvh: &Bvh,
-    lanes: &mut [(usize, SlabRay, Q)],
-    stats: &mut S,
-) -> u32 {
-    assert!(lanes.len() <= INTERLEAVED, "more rays than walkers");
-    let mut walkers: [Walker; INTERLEAVED] = std::array::from_fn(|_| Walker::new(ChildRef::ROOT));
-    let (mut walking, mut ended_early) = ((1u32 << lanes.len()) - 1, 0);
-    while walking != 0 {
-        let mut bits = walking;
-        while bits != 0 {
-            let k = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let (lane, slab, query) = &mut lanes[k];
-            stats.lane(*lane);
-            if let Some(early) = walkers[k].step(bvh, slab, query, stats) {
-                walking &= !(1 << k);
-                ended_early |= u32::from(early) << k;
-            }
-        }
-    }
-    ended_early
-}
-
-/// One ray's traversal: the child it visits next, and the children met and
-/// not yet visited, with their entry t. 3 KiB.
-struct Walker {
-    stack: TraversalStack<(ChildRef, f32), WIDE_STACK_SLOTS>,
-    next: ChildRef,
-}
-
-impl Walker {
-    /// A traversal that starts at `start`.
-    #[inline(always)]
-    fn new(start: ChildRef) -> Self {
-        Self {
-            stack: TraversalStack::new(),
-            next: start,
-        }
-    }
-
-    /// Visit the next child: Some(true) if the query ended the traversal,
-    /// Some(false) if no child is left, None to go on.
-    #[inline(always)]
-    fn step<Q: RayQuery, S: Counter>(
-        &mut self,
-        bvh: &Bvh,
-        slab: &SlabRay,
-        query: &mut Q,
-        stats: &mut S,
-    ) -> Option<bool> {
-        let stack = &mut self.stack;
-        let next = self.next;
         stats.node();
         if next.is_leaf() {
             if !next.is_empty() && query.leaf(bvh, next.contents(), stats) {
-                return Some(true);
+                return true;
             }
         } else {
             // Test all children's boxes at once.
@@ -129,8 +61,8 @@ impl Walker {
                     bvh.prefetch(node.slot(far));
                 }
                 stack.push_if((node.slot(far), t[far]), rest != 0);
-                self.next = node.slot(near);
-                return None;
+                next = node.slot(near);
+                continue;
             }
             // More: push them sorted by decreasing entry t
             // (insertion), so the nearest is popped next.
@@ -152,11 +84,11 @@ impl Walker {
         // equal to the hit's t stays: the tie rule may still prefer it).
         loop {
             let Some((child, t_entry)) = stack.pop() else {
-                return Some(false);
+                return false;
             };
             if t_entry <= query.t_max() * FAR_SCALE {
-                self.next = child;
-                return None;
+                next = child;
+                break;
             }
         }
     }
