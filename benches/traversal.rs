@@ -1,6 +1,7 @@
 //! Criterion bench of the BVH: build time, and single-ray vs 8-ray packet
-//! traversal of primary (1024×1024 pixel centres, 4×2-pixel packets) and random
-//! rays, on generated scenes of 10³…10⁶ triangles and spheres, and on the
+//! traversal of each standard ray kind (primary rays through 1024×1024 pixel
+//! centres in 4×2-pixel packets, shadow, ambient-occlusion and diffuse rays
+//! from their hits, and random rays), on generated scenes of 10³…10⁶ triangles and spheres, and on the
 //! Stanford dragon when `assets/dragon.ply` is present
 //! (`scripts/fetch-assets.sh`). Run one group at a time on a shared machine,
 //! e.g. `cargo bench --bench traversal -- mesh-100000`.
@@ -9,6 +10,7 @@ use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use raypack::accel::Bvh;
+use raypack::bench::rays::RayKind;
 use raypack::bench::traversal::{TraversalSetup, scene_bounds, trace_packets, trace_single};
 use raypack::scene::generate::random::framing_camera;
 
@@ -24,28 +26,24 @@ fn bench_setup(c: &mut Criterion, setup: &TraversalSetup) {
     group.sample_size(10);
     group.bench_function("build", |b| b.iter(|| Bvh::new(&setup.prims)));
     let bvh = Bvh::new(&setup.prims);
-    group.throughput(Throughput::Elements(setup.primary.len() as u64));
-    group.bench_function(BenchmarkId::new("primary", "single"), |b| {
-        b.iter(|| trace_single(&bvh, &setup.primary))
-    });
-    group.bench_function(BenchmarkId::new("primary", "packet8"), |b| {
-        b.iter(|| trace_packets(&bvh, &setup.primary_packets))
-    });
-    group.throughput(Throughput::Elements(setup.random.len() as u64));
-    group.bench_function(BenchmarkId::new("random", "single"), |b| {
-        b.iter(|| trace_single(&bvh, &setup.random))
-    });
-    group.bench_function(BenchmarkId::new("random", "packet8"), |b| {
-        b.iter(|| trace_packets(&bvh, &setup.random_packets))
-    });
+    for set in &setup.sets {
+        group.throughput(Throughput::Elements(set.rays.len() as u64));
+        group.bench_function(BenchmarkId::new(set.kind.name(), "single"), |b| {
+            b.iter(|| trace_single(&bvh, set))
+        });
+        group.bench_function(BenchmarkId::new(set.kind.name(), "packet8"), |b| {
+            b.iter(|| trace_packets(&bvh, set))
+        });
+    }
     group.finish();
 }
 
 fn generated(c: &mut Criterion) {
     for kind in ["mesh", "spheres"] {
         for n in [1_000, 10_000, 100_000, 1_000_000] {
-            let setup = TraversalSetup::generated(kind, n, RESOLUTION, RESOLUTION, RANDOM_RAYS)
-                .expect("a known scene kind");
+            let setup =
+                TraversalSetup::generated(kind, n, (RESOLUTION, RESOLUTION), RANDOM_RAYS, &RayKind::ALL)
+                    .expect("a known scene kind");
             bench_setup(c, &setup);
         }
     }
@@ -65,9 +63,17 @@ fn dragon(c: &mut Criterion) {
         Some(spec) => spec.camera_at(RESOLUTION, RESOLUTION).expect("a valid camera"),
         None => framing_camera(scene_bounds(&scene.primitives), RESOLUTION, RESOLUTION),
     };
+    let light = scene.lights.first().map(|l| l.position);
     bench_setup(
         c,
-        &TraversalSetup::new("dragon", scene.primitives, &camera, RANDOM_RAYS, 2),
+        &TraversalSetup::new(
+            "dragon",
+            scene.primitives,
+            &camera,
+            light,
+            RANDOM_RAYS,
+            &RayKind::ALL,
+        ),
     );
 }
 

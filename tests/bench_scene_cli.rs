@@ -21,6 +21,8 @@ fn rows_carry_consistent_ratios() {
         "1,2",
         "--kernel",
         "scalar,packet8",
+        "--rays",
+        "primary",
         "--json",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
@@ -47,6 +49,47 @@ fn rows_carry_consistent_ratios() {
             mrays(r) / mrays(one_thread)
         ));
         assert_eq!(r["hits"], rows[0]["hits"], "every variant traces the same rays");
+    }
+}
+
+/// Every ray kind gets a row per kernel; the secondary kinds hold one ray per
+/// primary hit, and the ratios are taken within a kind.
+#[test]
+fn every_ray_kind_gets_its_rows() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
+    let out = raypack(&[
+        "bench",
+        "scene",
+        scene,
+        "--size",
+        "32x16",
+        "--runs",
+        "1",
+        "--threads",
+        "1",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let rows = rows.as_array().expect("an array of rows");
+    let kinds: Vec<(&str, &str)> = rows
+        .iter()
+        .map(|r| (r["rays_kind"].as_str().unwrap(), r["kernel"].as_str().unwrap()))
+        .collect();
+    let mut expected = Vec::new();
+    for kind in ["primary", "shadow", "ao", "diffuse", "random"] {
+        expected.extend([(kind, "scalar"), (kind, "packet8")]);
+    }
+    assert_eq!(kinds, expected);
+    let primary_hits = rows[0]["hits"].as_u64().unwrap();
+    assert_eq!(rows[0]["rays"].as_u64(), Some(32 * 16));
+    for pair in rows.chunks(2) {
+        assert_eq!(pair[0]["hits"], pair[1]["hits"], "{}", pair[0]["rays_kind"]);
+        assert_eq!(pair[0]["ratio"].as_f64(), Some(1.0));
+        assert!(pair[1]["mrays_per_s"].as_f64().unwrap() > 0.0);
+    }
+    for r in &rows[2..8] {
+        assert_eq!(r["rays"].as_u64(), Some(primary_hits), "{}", r["rays_kind"]);
     }
 }
 

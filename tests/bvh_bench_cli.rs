@@ -6,7 +6,7 @@ mod cli_support;
 use cli_support::{TINY_TRAVERSAL, raypack, scratch, stderr};
 
 #[test]
-fn traversal_bench_reports_json_rows() {
+fn traversal_bench_reports_json_rows_of_every_ray_kind() {
     let out = raypack(&[&TINY_TRAVERSAL[..], &["--threads", "1", "--json"]].concat());
     assert!(out.status.success(), "{}", stderr(&out));
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
@@ -16,31 +16,71 @@ fn traversal_bench_reports_json_rows() {
         assert!(row["scene"].as_str().unwrap().starts_with("mesh-"));
         assert_eq!(row["engine"], "raypack");
         assert!(row["primitives"].as_u64().unwrap() > 100);
-        for key in [
-            "primary_single_mrays",
-            "primary_packet_mrays",
-            "random_single_mrays",
-            "random_packet_mrays",
-        ] {
-            assert!(row[key].as_f64().unwrap() > 0.0, "{key}");
+        assert!(row["sah_cost"].as_f64().unwrap() > 0.0);
+        let kinds: Vec<&str> = row["kinds"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|k| k["kind"].as_str().unwrap())
+            .collect();
+        assert_eq!(kinds, ["primary", "shadow", "ao", "diffuse", "random"]);
+        for k in row["kinds"].as_array().unwrap() {
+            let kind = k["kind"].as_str().unwrap();
+            let any_hit = matches!(kind, "shadow" | "ao");
+            assert_eq!(k["query"], if any_hit { "any-hit" } else { "nearest" }, "{kind}");
+            let rays = k["rays"].as_u64().unwrap();
+            assert!(rays > 0 && k["hits"].as_u64().unwrap() <= rays, "{kind}");
+            for key in ["single_mrays", "packet_mrays"] {
+                assert!(k[key].as_f64().unwrap() > 0.0, "{kind} {key}");
+            }
+            // Every ray of the kind is counted once by either pass.
+            for key in ["single_stats", "packet_stats"] {
+                assert_eq!(k[key]["rays"].as_u64(), Some(rays), "{kind} {key}");
+            }
         }
-        assert_eq!(row["primary_packet_stats"]["rays"].as_u64(), Some(32 * 16));
-        assert_eq!(row["random_packet_stats"]["rays"].as_u64(), Some(256));
+        // Secondary rays start at primary hits: no more of them than primary rays that hit.
+        let primary_hits = row["kinds"][0]["hits"].as_u64().unwrap();
+        assert_eq!(row["kinds"][0]["rays"].as_u64(), Some(32 * 16));
+        assert_eq!(row["kinds"][4]["rays"].as_u64(), Some(256));
+        for k in 1..4 {
+            assert_eq!(row["kinds"][k]["rays"].as_u64(), Some(primary_hits), "{k}");
+        }
     }
     // Time per ray against the first scene: exactly 1 for the first, and a
     // measured ratio (of the times behind the Mrays/s figures) for the second.
-    let growth = |row: &serde_json::Value, key: &str| row["growth_vs_first"][key].as_f64().unwrap();
-    for (key, mrays) in [
-        ("primary_single", "primary_single_mrays"),
-        ("primary_packet", "primary_packet_mrays"),
-        ("random_single", "random_single_mrays"),
-        ("random_packet", "random_packet_mrays"),
-    ] {
-        assert_eq!(growth(&rows[0], key), 1.0, "{key}");
-        let from_rates = rows[0][mrays].as_f64().unwrap() / rows[1][mrays].as_f64().unwrap();
-        let g = growth(&rows[1], key);
-        assert!((g / from_rates - 1.0).abs() < 1e-9, "{key}: {g} vs {from_rates}");
+    let (first, second) = (
+        rows[0]["kinds"].as_array().unwrap(),
+        rows[1]["kinds"].as_array().unwrap(),
+    );
+    for (a, b) in first.iter().zip(second) {
+        for (v, mrays) in ["single_mrays", "packet_mrays"].iter().enumerate() {
+            assert_eq!(a["growth_vs_first"][v].as_f64(), Some(1.0));
+            let from_rates = a[mrays].as_f64().unwrap() / b[mrays].as_f64().unwrap();
+            let g = b["growth_vs_first"][v].as_f64().unwrap();
+            assert!(
+                (g / from_rates - 1.0).abs() < 1e-9,
+                "{} {mrays}: {g} vs {from_rates}",
+                a["kind"]
+            );
+        }
     }
+}
+
+#[test]
+fn traversal_bench_measures_the_ray_kinds_asked_for() {
+    for kind in ["primary", "shadow", "ao", "diffuse", "random"] {
+        let out = raypack(&[&TINY_TRAVERSAL[..], &["--rays", kind, "--json"]].concat());
+        assert!(out.status.success(), "{kind}: {}", stderr(&out));
+        let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+        for row in rows.as_array().unwrap() {
+            let kinds = row["kinds"].as_array().unwrap();
+            assert_eq!(kinds.len(), 1);
+            assert_eq!(kinds[0]["kind"], kind);
+            assert!(kinds[0]["single_mrays"].as_f64().unwrap() > 0.0, "{kind}");
+        }
+    }
+    let out = raypack(&[&TINY_TRAVERSAL[..], &["--rays", "bounce"]].concat());
+    assert_eq!(out.status.code(), Some(2));
 }
 
 #[test]
@@ -71,7 +111,9 @@ fn traversal_bench_prints_growth_from_the_first_scene() {
         growth[1].starts_with("time per ray, raypack, mesh-200 -> mesh-800 (1t"),
         "{text}"
     );
-    assert!(growth[1].contains("primary single ") && growth[1].contains("random single "));
+    for kind in ["primary", "shadow", "ao", "diffuse", "random"] {
+        assert!(growth[1].contains(&format!("{kind} single ")), "{kind}: {text}");
+    }
 }
 
 /// Without the `embree` feature, asking for Embree is the user's error, said

@@ -160,6 +160,7 @@ fn render_and_bench_scene_run_through_embree() {
             "1",
         ])
         .args(["--threads", "1", "--engine", "raypack,embree", "--json"])
+        .args(["--rays", "primary,shadow"])
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -171,8 +172,15 @@ fn render_and_bench_scene_run_through_embree() {
         "{engines:?}"
     );
     // Both engines see the same rays, so they report the same number of hits.
-    let hits: Vec<u64> = rows.iter().map(|r| r["hits"].as_u64().unwrap()).collect();
-    assert!(hits.windows(2).all(|w| w[0] == w[1]), "{hits:?}");
+    for kind in ["primary", "shadow"] {
+        let hits: Vec<u64> = rows
+            .iter()
+            .filter(|r| r["rays_kind"] == kind)
+            .map(|r| r["hits"].as_u64().unwrap())
+            .collect();
+        assert_eq!(hits.len(), 4, "{kind}");
+        assert!(hits.windows(2).all(|w| w[0] == w[1]), "{kind}: {hits:?}");
+    }
     assert!(rows.iter().any(|r| r["vs_embree"].as_f64().is_some()));
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -199,18 +207,35 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
         ]
     );
     for row in rows {
-        assert!(row["random_packet_mrays"].as_f64().unwrap() > 0.0);
         assert!(row["build_s"].as_f64().unwrap() > 0.0);
-        // Embree cannot count its traversal work: no counts rather than zeros.
+        // Embree cannot count its traversal work nor report its tree: no
+        // figures rather than zeros.
         let counted = row["engine"] == "raypack";
-        assert_eq!(!row["primary_packet_stats"].is_null(), counted, "{row}");
+        assert_eq!(!row["sah_cost"].is_null(), counted, "{row}");
+        for k in row["kinds"].as_array().unwrap() {
+            assert!(k["packet_mrays"].as_f64().unwrap() > 0.0);
+            assert_eq!(!k["packet_stats"].is_null(), counted, "{row}");
+        }
+    }
+    // Both engines trace the same rays of every kind.
+    for (ours, theirs) in [(0, 1), (2, 3)] {
+        let rays = |row: usize| {
+            let kinds = rows[row]["kinds"].as_array().unwrap();
+            kinds
+                .iter()
+                .map(|k| k["rays"].as_u64().unwrap())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(rays(ours), rays(theirs));
+        assert_eq!(rays(ours).len(), 5);
     }
     // Each engine's growth is measured from its own first scene.
-    assert_eq!(rows[0]["growth_vs_first"]["primary_single"], 1.0);
-    assert_eq!(rows[1]["growth_vs_first"]["primary_single"], 1.0);
+    let random = |row: usize| &rows[row]["kinds"][4];
+    assert_eq!(rows[0]["kinds"][0]["growth_vs_first"][0], 1.0);
+    assert_eq!(rows[1]["kinds"][0]["growth_vs_first"][0], 1.0);
     let embree_from_rates =
-        rows[1]["random_single_mrays"].as_f64().unwrap() / rows[3]["random_single_mrays"].as_f64().unwrap();
-    let g = rows[3]["growth_vs_first"]["random_single"].as_f64().unwrap();
+        random(1)["single_mrays"].as_f64().unwrap() / random(3)["single_mrays"].as_f64().unwrap();
+    let g = random(3)["growth_vs_first"][0].as_f64().unwrap();
     assert!(
         (g / embree_from_rates - 1.0).abs() < 1e-9,
         "{g} vs {embree_from_rates}"
@@ -224,19 +249,20 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
     for start in [
         "time per ray, raypack, mesh-200 -> mesh-400 (1t",
         "time per ray, embree, mesh-200 -> mesh-400 (1t",
-        "raypack / Embree Mrays/s, mesh-200 (1t",
-        "raypack / Embree Mrays/s, mesh-400 (1t",
+        "raypack / Embree, mesh-200 (1t",
+        "raypack / Embree, mesh-400 (1t",
         "time per ray, embree, mesh-200 -> mesh-400 (2t",
-        "raypack / Embree Mrays/s, mesh-400 (2t",
+        "raypack / Embree, mesh-400 (2t",
+        "  ao       Mrays/s single ",
     ] {
         assert!(text.lines().any(|l| l.starts_with(start)), "{start}\n{text}");
     }
     let two_threads = text
         .lines()
-        .find(|l| l.starts_with("raypack / Embree Mrays/s, mesh-200 (2t"))
+        .find(|l| l.starts_with("raypack / Embree, mesh-200 (2t"))
         .unwrap();
     assert!(
-        two_threads.contains("build time raypack / Embree") && two_threads.ends_with("(both on 2t)"),
+        two_threads.contains("build time ") && two_threads.ends_with("(both on 2t)"),
         "{two_threads}"
     );
 }

@@ -83,7 +83,7 @@ pub struct TraversalStats {
     pub simd_active_lanes: u64,
     /// Lane slots, summed over SIMD steps (steps × packet width).
     pub simd_lane_slots: u64,
-    /// Packet lanes finished by single-ray traversal once too few lanes stayed active.
+    /// Packet lanes traced by single-ray traversal (those of incoherent packets).
     pub fallback_rays: u64,
 }
 
@@ -166,9 +166,8 @@ impl TraversalStats {
         ratio(self.simd_active_lanes, self.simd_lane_slots)
     }
 
-    /// Single-ray fallbacks per ray: lanes that left a packet to finish a
-    /// subtree on their own, per ray traced (0 without rays). A lane can leave
-    /// once per subtree it reaches with too few companions, so this can exceed 1.
+    /// Single-ray fallbacks per ray: lanes of incoherent packets traced as
+    /// single rays, per ray traced (0 without rays; at most 1).
     pub fn fallbacks_per_ray(&self) -> f64 {
         ratio(self.fallback_rays, self.rays)
     }

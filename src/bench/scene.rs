@@ -1,9 +1,12 @@
 //! Scene throughput: primary rays per second through the tile scheduler, per
 //! kernel and thread count, shared by `raypack bench scene` and the criterion
-//! bench `benches/render.rs`.
+//! bench `benches/render.rs`; and the other standard ray kinds
+//! ([`RayKind`](crate::bench::rays::RayKind)) of the scene per kernel and thread count.
 //!
 //! Every variant traces the same rays (the camera's pixel centres, in the same
 //! tiles and blocks) and only finds their nearest hits: no shading, no image.
+//! The other kinds are traced as `bench traversal` traces them: one by one
+//! for the scalar kernel, in their 8-ray packets for the packet kernel.
 //! The variants are interleaved run by run after one warm-up each, so drift of
 //! a shared machine hits them alike; the best run is kept (and the median
 //! reported beside it).
@@ -12,6 +15,8 @@ use std::time::Instant;
 
 use crate::accel::Accel;
 use crate::accel::stats::{NoStats, Uncounted};
+use crate::bench::rays::RaySet;
+use crate::bench::traversal::{trace_packets, trace_single};
 use crate::camera::Camera;
 use crate::render::kernel::TraceKernel;
 use crate::render::tiles::{self, Tile};
@@ -38,14 +43,14 @@ pub struct Timing {
     pub best_seconds: f64,
     /// Median run, seconds.
     pub median_seconds: f64,
-    /// Primary rays per run.
+    /// Rays per run.
     pub rays: u64,
     /// Rays that hit something (the same for every variant).
     pub hits: u64,
 }
 
 impl Timing {
-    /// Million primary rays per second of the best run.
+    /// Million rays per second of the best run.
     pub fn mrays_per_s(&self) -> f64 {
         self.rays as f64 / self.best_seconds / 1e6
     }
@@ -118,6 +123,43 @@ pub fn measure<A: Accel>(
     variants: &[Variant],
     runs: usize,
 ) -> Result<Vec<Timing>, String> {
+    interleave(variants, runs, frame.rays(), |v, pool| {
+        frame.trace(accel, v.kernel, v.block, pool)
+    })
+}
+
+/// Measure the rays of `set` per variant (interleaved, after a warm-up each):
+/// the scalar kernel traces them one by one, the packet kernel in their 8-ray
+/// packets (4×2-pixel blocks; the variant's block must be [`Block::B4x2`]).
+/// Fails if two variants disagree on the number of hits.
+pub fn measure_set<A: Accel>(
+    accel: &A,
+    set: &RaySet,
+    variants: &[Variant],
+    runs: usize,
+) -> Result<Vec<Timing>, String> {
+    if let Some(v) = variants.iter().find(|v| v.block != Block::B4x2) {
+        return Err(format!(
+            "{v:?}: {} rays are packed in 4x2 blocks",
+            set.kind.name()
+        ));
+    }
+    interleave(variants, runs, set.rays.len() as u64, |v, pool| {
+        pool.install(|| match v.kernel {
+            KernelKind::Scalar => trace_single(accel, set),
+            KernelKind::Packet8 => trace_packets(accel, set),
+        })
+    })
+}
+
+/// Time `trace` (which returns the rays hit of `rays`) per variant on a pool of
+/// its threads, `runs` times interleaved after a warm-up each.
+fn interleave(
+    variants: &[Variant],
+    runs: usize,
+    rays: u64,
+    trace: impl Fn(&Variant, &rayon::ThreadPool) -> u64,
+) -> Result<Vec<Timing>, String> {
     let pools = variants
         .iter()
         .map(|v| {
@@ -130,7 +172,7 @@ pub fn measure<A: Accel>(
     let mut samples = vec![Vec::with_capacity(runs); variants.len()];
     let mut hits = vec![0u64; variants.len()];
     for (k, v) in variants.iter().enumerate() {
-        hits[k] = frame.trace(accel, v.kernel, v.block, &pools[k]);
+        hits[k] = trace(v, &pools[k]);
     }
     if let Some(k) = hits.iter().position(|&h| h != hits[0]) {
         return Err(format!(
@@ -141,7 +183,7 @@ pub fn measure<A: Accel>(
     for _ in 0..runs.max(1) {
         for (k, v) in variants.iter().enumerate() {
             let start = Instant::now();
-            std::hint::black_box(frame.trace(accel, v.kernel, v.block, &pools[k]));
+            std::hint::black_box(trace(v, &pools[k]));
             samples[k].push(start.elapsed().as_secs_f64());
         }
     }
@@ -155,7 +197,7 @@ pub fn measure<A: Accel>(
                 variant,
                 best_seconds: s[0],
                 median_seconds: s[s.len() / 2],
-                rays: frame.rays(),
+                rays,
                 hits,
             }
         })

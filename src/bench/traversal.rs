@@ -1,14 +1,13 @@
 //! Traversal throughput: Mrays/s of single-ray and 8-ray packet traversal of the
-//! BVH on primary (coherent) and random (incoherent) rays, and build times;
+//! BVH on the standard ray kinds ([`RayKind`]: primary, shadow, ambient
+//! occlusion, diffuse and random rays), build times and the tree's SAH cost;
 //! shared by `raypack bench traversal` and the criterion bench `benches/traversal.rs`.
 //! With the `embree` feature, Embree's BVH is timed on the same rays alongside
-//! (`rtcIntersect1` and `rtcIntersect8`; its build gets the same thread count
-//! as raypack's).
+//! (`rtcIntersect1`/`rtcOccluded1` and `rtcIntersect8`/`rtcOccluded8`; its
+//! build gets the same thread count as raypack's).
 //!
-//! Rays are made before timing, so only traversal is measured: primary rays
-//! through pixel centres in 16×16 tiles of 4×2-pixel packets (the same rays for
-//! both variants), random rays from points of the scene's box in uniform
-//! directions, packed 8 at a time. Threads take whole tiles (rayon). Scenes and
+//! Rays are made before timing ([`RaySource`]), so only traversal is measured.
+//! Threads take whole tiles of 256 rays (rayon). Scenes, engines, kinds and
 //! variants are interleaved round by round and the best round is kept, so a
 //! drift of a shared machine's speed hits every scene alike and the growth of
 //! time per ray from the first scene to the others is read off one run.
@@ -16,17 +15,16 @@
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
+use glam::Vec3;
 use rayon::prelude::*;
-use wide::f32x8;
 
 use crate::accel::{Accel, AccelWithStats, Bvh, TraversalStats};
+use crate::bench::rays::{Query, RayKind, RaySet, RaySource, default_light};
 use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::engine::Engine;
 use crate::geometry::Primitive;
-use crate::packet::RayPacket8;
-use crate::ray::Ray;
-use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_rays, random_spheres};
+use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
 use crate::simd::SimdFloat;
 
 /// Rays per tile: 16×16 pixels, 32 packets of 4×2.
@@ -38,69 +36,70 @@ pub struct TraversalSetup {
     pub name: String,
     /// The primitives.
     pub prims: Vec<Primitive>,
-    /// Primary rays, tile by tile, packet by packet (lane order), pixel centres.
-    pub primary: Vec<Ray>,
-    /// The same rays in 4×2-pixel packets.
-    pub primary_packets: Vec<RayPacket8>,
-    /// Random rays.
-    pub random: Vec<Ray>,
-    /// The same rays, 8 to a packet.
-    pub random_packets: Vec<RayPacket8>,
+    /// The rays of each kind measured, in the order asked.
+    pub sets: Vec<RaySet>,
     /// Image size of the primary rays.
     pub resolution: (u32, u32),
 }
 
 impl TraversalSetup {
-    /// Rays for `prims` seen by `camera` (`width`, `height` multiples of 16 are
-    /// best: partial tiles get inactive lanes), plus `random` random rays.
+    /// The rays of `kinds` for `prims` seen by `camera` (`width`, `height`
+    /// multiples of 16 are best: partial tiles get inactive lanes), shadow rays
+    /// going to `light` (or [`default_light`]), plus `random` random rays.
     pub fn new(
         name: impl Into<String>,
         prims: Vec<Primitive>,
         camera: &Camera,
+        light: Option<Vec3>,
         random: usize,
-        seed: u64,
+        kinds: &[RayKind],
     ) -> Self {
-        let (w, h) = (camera.width, camera.height);
-        let mut primary = Vec::with_capacity((w * h) as usize);
-        let mut primary_packets = Vec::with_capacity((w * h) as usize / 8);
-        for ty in (0..h).step_by(16) {
-            for tx in (0..w).step_by(16) {
-                for py in (ty..(ty + 16).min(h)).step_by(2) {
-                    for px in (tx..(tx + 16).min(w)).step_by(4) {
-                        let pixels: Vec<(u32, u32)> = (0..8)
-                            .map(|k| (px + k % 4, py + k / 4))
-                            .filter(|&(i, j)| i < w && j < h)
-                            .collect();
-                        primary.extend(pixels.iter().map(|&(i, j)| camera.pixel_ray(i, j)));
-                        primary_packets.push(camera.pixel_packet::<f32x8>(&pixels));
-                    }
-                }
-            }
-        }
         let bounds = scene_bounds(&prims);
-        let random = random_rays(bounds, random, seed);
-        let random_packets = random.chunks(8).map(RayPacket8::from_rays).collect();
+        let sets = RaySource {
+            prims: &prims,
+            bounds,
+            camera,
+            light: light.unwrap_or_else(|| default_light(bounds)),
+            random,
+            seed: 2,
+        }
+        .make(kinds);
         Self {
             name: name.into(),
             prims,
-            primary,
-            primary_packets,
-            random,
-            random_packets,
-            resolution: (w, h),
+            sets,
+            resolution: (camera.width, camera.height),
         }
     }
 
     /// A generated scene of about `n` primitives: `kind` is `mesh` (bumpy-sphere
     /// triangles) or `spheres`; seen by [`framing_camera`].
-    pub fn generated(kind: &str, n: usize, width: u32, height: u32, random: usize) -> Option<Self> {
+    pub fn generated(
+        kind: &str,
+        n: usize,
+        (width, height): (u32, u32),
+        random: usize,
+        kinds: &[RayKind],
+    ) -> Option<Self> {
         let prims = match kind {
             "mesh" => bumpy_sphere(n, 1),
             "spheres" => random_spheres(n, 1),
             _ => return None,
         };
         let camera = framing_camera(scene_bounds(&prims), width, height);
-        Some(Self::new(format!("{kind}-{n}"), prims, &camera, random, 2))
+        Some(Self::new(
+            format!("{kind}-{n}"),
+            prims,
+            &camera,
+            None,
+            random,
+            kinds,
+        ))
+    }
+
+    /// The rays of `kind`, if measured.
+    pub fn set(&self, kind: RayKind) -> Option<&RaySet> {
+        self.sets.iter().find(|s| s.kind == kind)
     }
 }
 
@@ -117,24 +116,40 @@ pub fn scene_bounds(prims: &[Primitive]) -> Aabb {
     }
 }
 
-/// Trace `rays` one by one, tiles spread over the current rayon pool; returns a checksum.
-pub fn trace_single(accel: &impl Accel, rays: &[Ray]) -> u64 {
-    rays.par_chunks(TILE_RAYS)
+/// Trace the rays of `set` one by one with its kind's query, tiles spread over
+/// the current rayon pool; returns how many hit.
+pub fn trace_single(accel: &impl Accel, set: &RaySet) -> u64 {
+    let query = set.kind.query();
+    set.rays
+        .par_chunks(TILE_RAYS)
         .map(|tile| {
             tile.iter()
-                .map(|r| u64::from(accel.intersect(r).prim))
+                .map(|r| {
+                    u64::from(match query {
+                        Query::Nearest => accel.intersect(r).is_hit(),
+                        Query::AnyHit => accel.occluded(r),
+                    })
+                })
                 .sum::<u64>()
         })
         .sum()
 }
 
-/// Trace `packets`, tiles spread over the current rayon pool; returns a checksum.
-pub fn trace_packets(accel: &impl Accel, packets: &[RayPacket8]) -> u64 {
-    packets
+/// Trace the packets of `set` with its kind's query, tiles spread over the
+/// current rayon pool; returns how many rays hit.
+pub fn trace_packets(accel: &impl Accel, set: &RaySet) -> u64 {
+    let query = set.kind.query();
+    set.packets
         .par_chunks(TILE_RAYS / 8)
         .map(|tile| {
             tile.iter()
-                .map(|p| u64::from(accel.intersect_packet(p).hit_mask().bitmask()))
+                .map(|p| {
+                    let hit = match query {
+                        Query::Nearest => accel.intersect_packet(p).hit_mask(),
+                        Query::AnyHit => accel.occluded_packet(p),
+                    };
+                    u64::from(hit.bitmask().count_ones())
+                })
                 .sum::<u64>()
         })
         .sum()
@@ -150,21 +165,15 @@ pub enum Structure {
 }
 
 impl Structure {
-    /// Trace `rays` one by one ([`trace_single`]).
-    fn trace_single(&self, rays: &[Ray]) -> u64 {
-        match self {
-            Self::Raypack(bvh) => trace_single(bvh, rays),
+    /// Trace `set`'s rays one by one ([`trace_single`]) or in packets ([`trace_packets`]).
+    fn trace(&self, set: &RaySet, packets: bool) -> u64 {
+        match (self, packets) {
+            (Self::Raypack(bvh), false) => trace_single(bvh, set),
+            (Self::Raypack(bvh), true) => trace_packets(bvh, set),
             #[cfg(feature = "embree")]
-            Self::Embree(scene) => trace_single(scene, rays),
-        }
-    }
-
-    /// Trace `packets` ([`trace_packets`]).
-    fn trace_packets(&self, packets: &[RayPacket8]) -> u64 {
-        match self {
-            Self::Raypack(bvh) => trace_packets(bvh, packets),
+            (Self::Embree(scene), false) => trace_single(scene, set),
             #[cfg(feature = "embree")]
-            Self::Embree(scene) => trace_packets(scene, packets),
+            (Self::Embree(scene), true) => trace_packets(scene, set),
         }
     }
 }
@@ -246,7 +255,7 @@ impl Builder {
     }
 }
 
-/// One row of the traversal table.
+/// One row of the traversal table: a scene, an engine and a thread count.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct TraversalRow {
     /// Scene name.
@@ -259,40 +268,49 @@ pub struct TraversalRow {
     pub threads: usize,
     /// Best build time, seconds.
     pub build_s: f64,
+    /// The tree's SAH cost (raypack only: Embree does not report its tree).
+    pub sah_cost: Option<f64>,
     /// Primary rays: image size.
     pub resolution: (u32, u32),
-    /// Primary rays, single-ray traversal, Mrays/s.
-    pub primary_single_mrays: f64,
-    /// Primary rays, 8-ray packets (4×2 pixels), Mrays/s.
-    pub primary_packet_mrays: f64,
-    /// Random rays, single-ray traversal, Mrays/s.
-    pub random_single_mrays: f64,
-    /// Random rays, 8-ray packets, Mrays/s.
-    pub random_packet_mrays: f64,
-    /// Counts of the primary packet pass (raypack only: Embree does not report them).
-    pub primary_packet_stats: Option<TraversalStats>,
-    /// Counts of the primary single-ray pass (raypack only).
-    pub primary_single_stats: Option<TraversalStats>,
-    /// Counts of the random packet pass (raypack only).
-    pub random_packet_stats: Option<TraversalStats>,
-    /// Time per ray against the same engine on the first scene measured
-    /// alongside (1 for itself).
-    pub growth_vs_first: Growth,
+    /// The figures of each ray kind, in the order measured.
+    pub kinds: Vec<KindRow>,
     /// Timed rounds per variant (best kept).
     pub rounds: usize,
 }
 
-/// Per traversal variant, a scene's time per ray divided by the first scene's.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Growth {
-    /// Primary rays, single-ray traversal.
-    pub primary_single: f64,
-    /// Primary rays, 8-ray packets.
-    pub primary_packet: f64,
-    /// Random rays, single-ray traversal.
-    pub random_single: f64,
-    /// Random rays, 8-ray packets.
-    pub random_packet: f64,
+/// The figures of one ray kind in a [`TraversalRow`].
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct KindRow {
+    /// The kind.
+    pub kind: RayKind,
+    /// Its query.
+    pub query: Query,
+    /// Rays traced.
+    pub rays: usize,
+    /// Rays that hit (nearest) or found something (any hit), single-ray traversal.
+    pub hits: u64,
+    /// Single-ray traversal, Mrays/s.
+    pub single_mrays: f64,
+    /// 8-ray packets, Mrays/s.
+    pub packet_mrays: f64,
+    /// Counts of the single-ray pass (raypack only: Embree does not report them).
+    pub single_stats: Option<TraversalStats>,
+    /// Counts of the packet pass (raypack only).
+    pub packet_stats: Option<TraversalStats>,
+    /// Time per ray against the same engine and kind on the first scene
+    /// measured alongside (1 for itself): single rays, packets.
+    pub growth_vs_first: [f64; 2],
+}
+
+impl KindRow {
+    /// The better of single rays and packets, Mrays/s, and which it was.
+    pub fn best(&self) -> (f64, &'static str) {
+        if self.packet_mrays > self.single_mrays {
+            (self.packet_mrays, "packet8")
+        } else {
+            (self.single_mrays, "single")
+        }
+    }
 }
 
 /// Best (shortest) wall time of `f` over `rounds` calls.
@@ -314,25 +332,30 @@ struct Case<'a> {
     structure: Structure,
     /// Best build time.
     build: Duration,
-    /// Best times of primary single, primary packet, random single, random packet.
-    best: [Duration; 4],
+    /// Per ray set: best times of single rays and packets.
+    best: Vec<[Duration; 2]>,
+    /// Per ray set: rays hit by single rays.
+    hits: Vec<u64>,
 }
 
 impl Case<'_> {
-    /// Seconds per ray of each variant.
-    fn per_ray(&self) -> [f64; 4] {
-        let (primary, random) = (self.setup.primary.len(), self.setup.random.len());
-        let rays = [primary, primary, random, random];
-        std::array::from_fn(|k| self.best[k].as_secs_f64() / rays[k].max(1) as f64)
+    /// Seconds per ray of each set, single rays and packets.
+    fn per_ray(&self) -> Vec<[f64; 2]> {
+        self.setup
+            .sets
+            .iter()
+            .zip(&self.best)
+            .map(|(set, best)| best.map(|t| t.as_secs_f64() / set.rays.len().max(1) as f64))
+            .collect()
     }
 }
 
 /// Measure every engine of `builder` on `setups` on a rayon pool of the
 /// builder's threads:
-/// each build time (best of 3), then the four traversal variants of every
-/// scene and engine, interleaved scene by scene, engine by engine and variant
-/// by variant, best of `rounds` after a warm-up round. With Embree among the
-/// engines every pool thread sets FTZ/DAZ, so both engines run in that mode.
+/// each build time (best of 3), then single rays and packets of every ray set
+/// of every scene and engine, interleaved scene by scene, engine by engine and
+/// variant by variant, best of `rounds` after a warm-up round. With Embree
+/// among the engines every pool thread sets FTZ/DAZ, so both engines run in that mode.
 pub fn measure(
     setups: &[TraversalSetup],
     builder: &Builder,
@@ -361,13 +384,13 @@ pub fn measure(
                     structure = Some(built);
                 }
                 let structure = structure.expect("three builds");
-                let best = [Duration::MAX; 4];
                 cases.push(Case {
                     setup,
                     engine,
                     structure,
                     build,
-                    best,
+                    best: vec![[Duration::MAX; 2]; setup.sets.len()],
+                    hits: vec![0; setup.sets.len()],
                 });
             }
         }
@@ -375,15 +398,17 @@ pub fn measure(
         for round in 0..=rounds {
             for case in &mut cases {
                 let (s, setup) = (&case.structure, case.setup);
-                let times = [
-                    best_time(1, || s.trace_single(&setup.primary)),
-                    best_time(1, || s.trace_packets(&setup.primary_packets)),
-                    best_time(1, || s.trace_single(&setup.random)),
-                    best_time(1, || s.trace_packets(&setup.random_packets)),
-                ];
-                if round > 0 {
-                    for (b, t) in case.best.iter_mut().zip(times) {
-                        *b = (*b).min(t);
+                for (k, set) in setup.sets.iter().enumerate() {
+                    for packets in [false, true] {
+                        let mut hits = 0;
+                        let t = best_time(1, || hits = s.trace(set, packets));
+                        if round == 0 && !packets {
+                            case.hits[k] = hits;
+                        }
+                        if round > 0 {
+                            let best = &mut case.best[k][usize::from(packets)];
+                            *best = (*best).min(t);
+                        }
                     }
                 }
             }
@@ -396,41 +421,53 @@ pub fn measure(
                     .find(|c| c.engine == case.engine)
                     .expect("the case itself")
                     .per_ray();
-                let own = case.per_ray();
-                let growth = |k: usize| own[k] / first[k];
-                let growth = Growth {
-                    primary_single: growth(0),
-                    primary_packet: growth(1),
-                    random_single: growth(2),
-                    random_packet: growth(3),
-                };
-                row(case, threads, rounds, growth)
+                let growth: Vec<[f64; 2]> = case
+                    .per_ray()
+                    .iter()
+                    .zip(&first)
+                    .map(|(own, first)| [own[0] / first[0], own[1] / first[1]])
+                    .collect();
+                row(case, threads, rounds, &growth)
             })
             .collect())
     })
 }
 
 /// The table row of `case`: its best times as Mrays/s, and for raypack the
-/// traversal counts of one more (untimed) pass of each kind.
-fn row(case: &Case<'_>, threads: usize, rounds: usize, growth_vs_first: Growth) -> TraversalRow {
+/// SAH cost and the traversal counts of one more (untimed) pass of each variant.
+fn row(case: &Case<'_>, threads: usize, rounds: usize, growth: &[[f64; 2]]) -> TraversalRow {
     let setup = case.setup;
     let mrays = |n: usize, t: Duration| n as f64 / t.as_secs_f64() / 1e6;
-    let stats = match &case.structure {
-        Structure::Raypack(bvh) => {
-            let mut stats = [TraversalStats::default(); 3];
-            for p in &setup.primary_packets {
-                bvh.intersect_packet_with_stats(p, &mut stats[0]);
+    let kinds = setup
+        .sets
+        .iter()
+        .enumerate()
+        .map(|(k, set)| {
+            let stats = match &case.structure {
+                Structure::Raypack(bvh) => {
+                    let [single, packet] = counted(bvh, set);
+                    (Some(single), Some(packet))
+                }
+                #[cfg(feature = "embree")]
+                Structure::Embree(_) => (None, None),
+            };
+            KindRow {
+                kind: set.kind,
+                query: set.kind.query(),
+                rays: set.rays.len(),
+                hits: case.hits[k],
+                single_mrays: mrays(set.rays.len(), case.best[k][0]),
+                packet_mrays: mrays(set.rays.len(), case.best[k][1]),
+                single_stats: stats.0,
+                packet_stats: stats.1,
+                growth_vs_first: growth[k],
             }
-            for r in &setup.primary {
-                bvh.intersect_with_stats(r, &mut stats[1]);
-            }
-            for p in &setup.random_packets {
-                bvh.intersect_packet_with_stats(p, &mut stats[2]);
-            }
-            stats.map(Some)
-        }
+        })
+        .collect();
+    let sah_cost = match &case.structure {
+        Structure::Raypack(bvh) => Some(bvh.info().sah_cost),
         #[cfg(feature = "embree")]
-        Structure::Embree(_) => [None; 3],
+        Structure::Embree(_) => None,
     };
     TraversalRow {
         scene: setup.name.clone(),
@@ -438,17 +475,29 @@ fn row(case: &Case<'_>, threads: usize, rounds: usize, growth_vs_first: Growth) 
         engine: case.engine,
         threads,
         build_s: case.build.as_secs_f64(),
+        sah_cost,
         resolution: setup.resolution,
-        primary_single_mrays: mrays(setup.primary.len(), case.best[0]),
-        primary_packet_mrays: mrays(setup.primary.len(), case.best[1]),
-        random_single_mrays: mrays(setup.random.len(), case.best[2]),
-        random_packet_mrays: mrays(setup.random.len(), case.best[3]),
-        primary_packet_stats: stats[0],
-        primary_single_stats: stats[1],
-        random_packet_stats: stats[2],
-        growth_vs_first,
+        kinds,
         rounds,
     }
+}
+
+/// The traversal counts of `set` on `bvh`: single rays, packets.
+fn counted(bvh: &Bvh, set: &RaySet) -> [TraversalStats; 2] {
+    let mut stats = [TraversalStats::default(); 2];
+    for r in &set.rays {
+        match set.kind.query() {
+            Query::Nearest => _ = bvh.intersect_with_stats(r, &mut stats[0]),
+            Query::AnyHit => _ = bvh.occluded_with_stats(r, &mut stats[0]),
+        }
+    }
+    for p in &set.packets {
+        match set.kind.query() {
+            Query::Nearest => _ = bvh.intersect_packet_with_stats(p, &mut stats[1]),
+            Query::AnyHit => _ = bvh.occluded_packet_with_stats(p, &mut stats[1]),
+        }
+    }
+    stats
 }
 
 #[cfg(test)]
@@ -456,26 +505,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn primary_packets_hold_the_primary_rays_in_order() {
-        let s = TraversalSetup::generated("mesh", 500, 40, 20, 100).expect("known kind");
-        assert_eq!(s.primary.len(), 800);
-        assert_eq!(s.random_packets.len(), 13);
-        let mut k = 0;
-        for p in &s.primary_packets {
-            for lane in 0..8 {
-                if p.is_active(lane) {
-                    assert_eq!(p.ray(lane), s.primary[k]);
-                    k += 1;
-                }
-            }
-        }
-        assert_eq!(k, s.primary.len());
+    fn single_rays_and_packets_agree_with_brute_force_on_every_kind() {
+        let s = TraversalSetup::generated("mesh", 500, (40, 20), 100, &RayKind::ALL).expect("known kind");
+        assert_eq!(s.set(RayKind::Primary).expect("primary").rays.len(), 800);
         let bvh = Bvh::new(&s.prims);
         let brute = crate::accel::BruteForce::new(&s.prims);
-        assert_eq!(trace_single(&bvh, &s.primary), trace_single(&brute, &s.primary));
-        assert_eq!(
-            trace_packets(&bvh, &s.primary_packets),
-            trace_packets(&brute, &s.primary_packets)
-        );
+        for set in &s.sets {
+            let hits = trace_single(&brute, set);
+            assert_eq!(trace_single(&bvh, set), hits, "{:?}", set.kind);
+            assert_eq!(trace_packets(&bvh, set), hits, "{:?}", set.kind);
+            assert_eq!(trace_packets(&brute, set), hits, "{:?}", set.kind);
+        }
     }
 }

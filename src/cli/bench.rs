@@ -6,8 +6,9 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 
 use crate::bench::kernels::{Measure, for_each_setup};
-use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure};
-use crate::bench::traversal::TraversalRow;
+use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
+use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure, measure_set};
+use crate::bench::traversal::{TraversalRow, scene_bounds};
 use crate::cli::args::{load_scene, parse_size, scene_camera};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
@@ -46,6 +47,12 @@ pub struct TraversalArgs {
     /// Random rays per scene.
     #[arg(long, default_value_t = 1 << 20)]
     pub random: usize,
+    /// Ray kinds to measure, comma-separated: `primary`, `shadow` (any hit, to
+    /// the scene's first light or a point above its box), `ao` (any hit,
+    /// cosine-distributed, a tenth of the box's diagonal long), `diffuse`
+    /// (nearest hit, cosine-distributed) and `random`.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = RayKind::ALL)]
+    pub rays: Vec<RayKind>,
     /// Thread counts to measure with.
     #[arg(long, value_delimiter = ',', default_value = "1")]
     pub threads: Vec<usize>,
@@ -91,7 +98,7 @@ pub fn run(cmd: BenchCommand) -> CliResult {
 }
 
 fn traversal(args: TraversalArgs) -> CliResult {
-    use crate::bench::traversal::{Builder, TraversalSetup, measure, scene_bounds};
+    use crate::bench::traversal::{Builder, TraversalSetup, measure};
     use crate::scene::generate::random::framing_camera;
 
     // Ask for the engines before generating scenes: Embree may be missing.
@@ -113,18 +120,22 @@ fn traversal(args: TraversalArgs) -> CliResult {
             let name = path
                 .file_stem()
                 .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+            let light = scene.lights.first().map(|l| l.position);
             vec![TraversalSetup::new(
                 name,
                 scene.primitives,
                 &camera,
+                light,
                 args.random,
-                2,
+                &args.rays,
             )]
         }
         None => args
             .sizes
             .iter()
-            .filter_map(|&n| TraversalSetup::generated(&args.scene, n, args.width, args.height, args.random))
+            .filter_map(|&n| {
+                TraversalSetup::generated(&args.scene, n, (args.width, args.height), args.random, &args.rays)
+            })
             .collect(),
     };
     let mut rows = Vec::new();
@@ -148,8 +159,9 @@ fn traversal(args: TraversalArgs) -> CliResult {
         );
     } else {
         println!(
-            "(best of {} rounds after a warm-up, scenes, engines and variants interleaved round by round; \
-             random rays: {} from the scene box, uniform directions; transparent huge pages: {})",
+            "(best of {} rounds after a warm-up, scenes, engines, ray kinds and variants interleaved round by \
+             round; random rays: {} from the scene box, uniform directions; secondary rays from the primary \
+             hits; transparent huge pages: {})",
             args.rounds,
             args.random,
             crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
@@ -162,13 +174,11 @@ fn traversal(args: TraversalArgs) -> CliResult {
 /// per ray from the first scene, then raypack's speed over Embree's per scene.
 fn print_traversal(rows: &[TraversalRow]) {
     for row in rows {
-        let counts = match (&row.primary_single_stats, &row.primary_packet_stats) {
-            (Some(s), Some(p)) => format!("  [single {}; packet {}]", s.caption(), p.caption()),
-            _ => String::new(),
-        };
+        let sah = row
+            .sah_cost
+            .map_or(String::new(), |c| format!("  SAH cost {c:.1}"));
         println!(
-            "{:<14} {:>8} prims {:<7} {}t  build {:>7.1} ms  primary {}x{}: single {:>6.2} packet8 {:>6.2} \
-             Mrays/s ({:.2}x)  random: single {:>6.2} packet8 {:>6.2} Mrays/s ({:.2}x){counts}",
+            "{:<14} {:>8} prims {:<7} {}t  build {:>7.1} ms{sah}  primary rays {}x{}",
             row.scene,
             row.primitives,
             engine_name(row.engine),
@@ -176,30 +186,42 @@ fn print_traversal(rows: &[TraversalRow]) {
             1e3 * row.build_s,
             row.resolution.0,
             row.resolution.1,
-            row.primary_single_mrays,
-            row.primary_packet_mrays,
-            row.primary_packet_mrays / row.primary_single_mrays,
-            row.random_single_mrays,
-            row.random_packet_mrays,
-            row.random_packet_mrays / row.random_single_mrays,
         );
+        for k in &row.kinds {
+            let counts = match (&k.single_stats, &k.packet_stats) {
+                (Some(s), Some(p)) => format!("  [single {}; packet {}]", s.caption(), p.caption()),
+                _ => String::new(),
+            };
+            println!(
+                "  {:<8} {:>8} rays {:>5.1}% hit: single {:>6.2} packet8 {:>6.2} Mrays/s ({:.2}x){counts}",
+                k.kind.name(),
+                k.rays,
+                100.0 * k.hits as f64 / k.rays.max(1) as f64,
+                k.single_mrays,
+                k.packet_mrays,
+                k.packet_mrays / k.single_mrays,
+            );
+        }
     }
     for engine in [Engine::Raypack, Engine::Embree] {
         let of_engine: Vec<&TraversalRow> = rows.iter().filter(|r| r.engine == engine).collect();
         if let [first, rest @ ..] = of_engine.as_slice() {
             for row in rest {
-                let g = &row.growth_vs_first;
+                let kinds: Vec<String> = row
+                    .kinds
+                    .iter()
+                    .map(|k| {
+                        let [single, packet] = k.growth_vs_first;
+                        format!("{} single {single:.2}x packet8 {packet:.2}x", k.kind.name())
+                    })
+                    .collect();
                 println!(
-                    "time per ray, {}, {} -> {} ({}t, same rounds): primary single {:.2}x packet8 {:.2}x, \
-                     random single {:.2}x packet8 {:.2}x",
+                    "time per ray, {}, {} -> {} ({}t, same rounds): {}",
                     engine_name(engine),
                     first.scene,
                     row.scene,
                     row.threads,
-                    g.primary_single,
-                    g.primary_packet,
-                    g.random_single,
-                    g.random_packet,
+                    kinds.join(", "),
                 );
             }
         }
@@ -208,18 +230,22 @@ fn print_traversal(rows: &[TraversalRow]) {
         let theirs = rows
             .iter()
             .find(|r| r.engine == Engine::Embree && r.scene == ours.scene);
-        if let Some(theirs) = theirs {
+        let Some(theirs) = theirs else { continue };
+        println!(
+            "raypack / Embree, {} ({}t, same rounds): build time {:.2}x (both on {}t)",
+            ours.scene,
+            ours.threads,
+            ours.build_s / theirs.build_s,
+            ours.threads,
+        );
+        for (a, b) in ours.kinds.iter().zip(&theirs.kinds) {
+            let ((best_a, path_a), (best_b, path_b)) = (a.best(), b.best());
             println!(
-                "raypack / Embree Mrays/s, {} ({}t, same rounds): primary single {:.2}x packet8 {:.2}x, \
-                 random single {:.2}x packet8 {:.2}x; build time raypack / Embree {:.2}x (both on {}t)",
-                ours.scene,
-                ours.threads,
-                ours.primary_single_mrays / theirs.primary_single_mrays,
-                ours.primary_packet_mrays / theirs.primary_packet_mrays,
-                ours.random_single_mrays / theirs.random_single_mrays,
-                ours.random_packet_mrays / theirs.random_packet_mrays,
-                ours.build_s / theirs.build_s,
-                ours.threads,
+                "  {:<8} Mrays/s single {:.2}x packet8 {:.2}x; best {:.2}x (raypack {path_a} {best_a:.2} vs Embree {path_b} {best_b:.2})",
+                a.kind.name(),
+                a.single_mrays / b.single_mrays,
+                a.packet_mrays / b.packet_mrays,
+                best_a / best_b,
             );
         }
     }
@@ -291,6 +317,11 @@ pub struct SceneArgs {
     /// Timed runs per variant (the best is kept).
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10000))]
     pub runs: u32,
+    /// Ray kinds to measure, comma-separated (see `bench traversal --rays`):
+    /// primary rays go through the tile scheduler in the blocks asked for, the
+    /// others one by one (scalar) or in their 4×2-pixel packets (packet8).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = RayKind::ALL)]
+    pub rays: Vec<RayKind>,
     /// Print a JSON array instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -313,13 +344,14 @@ pub struct SceneRow {
     pub mrays_per_s: f64,
     /// Million primary rays per second, median run.
     pub median_mrays_per_s: f64,
-    /// `mrays_per_s` over that of the first row (first engine, kernel, block and thread count).
+    /// `mrays_per_s` over that of the first row of the same ray kind (first
+    /// engine, kernel, block and thread count).
     pub ratio: f64,
-    /// `mrays_per_s` over that of the same engine, kernel and block on the
-    /// fewest threads measured (1 by default): the thread scaling.
+    /// `mrays_per_s` over that of the same engine, kernel, block and ray kind
+    /// on the fewest threads measured (1 by default): the thread scaling.
     pub vs_fewest_threads: f64,
-    /// raypack rows: `mrays_per_s` over Embree's on the same kernel width, block
-    /// and threads in this run (when Embree was measured).
+    /// raypack rows: `mrays_per_s` over Embree's on the same kernel width, block,
+    /// threads and ray kind in this run (when Embree was measured).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vs_embree: Option<f64>,
     /// Ray kind measured.
@@ -345,19 +377,30 @@ pub struct SceneRow {
 }
 
 struct SceneJob<'a> {
-    frame: &'a PrimaryFrame,
+    /// The primary rays, if measured.
+    frame: Option<&'a PrimaryFrame>,
     variants: &'a [Variant],
+    /// The other ray kinds, and their variants (4×2 blocks).
+    sets: &'a [RaySet],
+    set_variants: &'a [Variant],
     runs: u32,
 }
 
 impl WithAccel for SceneJob<'_> {
-    type Output = Result<(Vec<Timing>, f64), String>;
+    type Output = Result<(Vec<(RayKind, Timing)>, f64), String>;
 
     fn run<A: crate::accel::Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
-        Ok((
-            measure(accel, self.frame, self.variants, self.runs as usize)?,
-            setup_seconds,
-        ))
+        let runs = self.runs as usize;
+        let mut timings = Vec::new();
+        if let Some(frame) = self.frame {
+            let primary = measure(accel, frame, self.variants, runs)?;
+            timings.extend(primary.into_iter().map(|t| (RayKind::Primary, t)));
+        }
+        for set in self.sets {
+            let measured = measure_set(accel, set, self.set_variants, runs)?;
+            timings.extend(measured.into_iter().map(|t| (set.kind, t)));
+        }
+        Ok((timings, setup_seconds))
     }
 }
 
@@ -372,6 +415,40 @@ fn scene(args: SceneArgs) -> CliResult {
     let (scene, _) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, Path::new(&args.scene), args.size)?;
     let frame = PrimaryFrame::new(&camera, args.tile);
+    // The other kinds start from the primary hits (or the box): made once for every engine.
+    let mut others: Vec<RayKind> = Vec::new();
+    for &kind in &args.rays {
+        if kind != RayKind::Primary && !others.contains(&kind) {
+            others.push(kind);
+        }
+    }
+    let sets = if others.is_empty() {
+        Vec::new()
+    } else {
+        let bounds = scene_bounds(&scene.primitives);
+        RaySource {
+            prims: &scene.primitives,
+            bounds,
+            camera: &camera,
+            light: scene
+                .lights
+                .first()
+                .map_or_else(|| default_light(bounds), |l| l.position),
+            random: camera.width as usize * camera.height as usize,
+            seed: 2,
+        }
+        .make(&others)
+    };
+    let mut set_variants: Vec<Variant> = Vec::new();
+    for &kernel in &args.kernel {
+        for &threads in &args.threads {
+            set_variants.push(Variant {
+                kernel,
+                block: Block::B4x2,
+                threads: usize::from(threads),
+            });
+        }
+    }
     let mut variants = Vec::new();
     for &kernel in &args.kernel {
         for &block in &args.block {
@@ -389,8 +466,10 @@ fn scene(args: SceneArgs) -> CliResult {
     let mut rows: Vec<SceneRow> = Vec::new();
     for &engine in &args.engine {
         let job = SceneJob {
-            frame: &frame,
+            frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
             variants: &variants,
+            sets: &sets,
+            set_variants: &set_variants,
             runs: args.runs,
         };
         let (timings, setup_seconds) = with_engine(&scene, engine, args.accel, job)
@@ -400,7 +479,7 @@ fn scene(args: SceneArgs) -> CliResult {
             Engine::Raypack => args.accel.name(),
             Engine::Embree => "embree",
         };
-        rows.extend(timings.iter().map(|t| SceneRow {
+        rows.extend(timings.iter().map(|(kind, t)| SceneRow {
             scene: name.clone(),
             engine: engine_name(engine),
             kernel: t.variant.kernel.name(),
@@ -411,7 +490,7 @@ fn scene(args: SceneArgs) -> CliResult {
             ratio: 0.0,
             vs_fewest_threads: 0.0,
             vs_embree: None,
-            rays_kind: "primary",
+            rays_kind: kind.name(),
             rays: t.rays,
             hits: t.hits,
             width: camera.width,
@@ -423,24 +502,27 @@ fn scene(args: SceneArgs) -> CliResult {
             setup_ms: 1e3 * setup_seconds,
         }));
     }
-    // Ratios measured in this one run: against the first row, against the
-    // fewest threads of the same variant, and raypack against Embree on the
-    // same kernel width, block and threads.
-    let base = rows[0].mrays_per_s;
+    // Ratios measured in this one run, within a ray kind: against its first
+    // row, against the fewest threads of the same variant, and raypack against
+    // Embree on the same kernel width, block and threads.
     let all = rows.clone();
-    let embree: Vec<SceneRow> = rows.iter().filter(|r| r.engine == "embree").cloned().collect();
     for r in &mut rows {
-        r.ratio = r.mrays_per_s / base;
-        r.vs_fewest_threads = all
-            .iter()
-            .filter(|o| o.engine == r.engine && o.kernel == r.kernel && o.block == r.block)
+        let same_kind = all.iter().filter(|o| o.rays_kind == r.rays_kind);
+        let same_variant = |o: &&SceneRow| o.kernel == r.kernel && o.block == r.block;
+        r.ratio = same_kind
+            .clone()
+            .next()
+            .map_or(1.0, |o| r.mrays_per_s / o.mrays_per_s);
+        r.vs_fewest_threads = same_kind
+            .clone()
+            .filter(|o| o.engine == r.engine && same_variant(o))
             .min_by_key(|o| o.threads)
             .map_or(1.0, |o| r.mrays_per_s / o.mrays_per_s);
         if r.engine == "raypack" {
-            r.vs_embree = embree
-                .iter()
-                .find(|e| e.kernel == r.kernel && e.threads == r.threads && e.block == r.block)
-                .map(|e| r.mrays_per_s / e.mrays_per_s);
+            r.vs_embree = same_kind
+                .filter(|o| o.engine == "embree" && same_variant(o) && o.threads == r.threads)
+                .map(|e| r.mrays_per_s / e.mrays_per_s)
+                .next();
         }
     }
     if args.json {
@@ -451,7 +533,8 @@ fn scene(args: SceneArgs) -> CliResult {
         return Ok(());
     }
     println!(
-        "{}: {} primitives, {}x{} primary rays through pixel centres, accel {}, {}px tiles, best of {} runs",
+        "{}: {} primitives, {}x{} primary rays through pixel centres (other kinds from their hits), accel {}, \
+         {}px tiles, best of {} runs",
         name,
         scene.primitives.len(),
         camera.width,
@@ -461,7 +544,8 @@ fn scene(args: SceneArgs) -> CliResult {
         args.runs
     );
     println!(
-        "{:<8} {:<8} {:>5} {:>7} {:>10} {:>10} {:>9} {:>12} {:>12} {:>10}",
+        "{:<8} {:<8} {:<8} {:>5} {:>7} {:>10} {:>10} {:>9} {:>12} {:>12} {:>10}",
+        "rays",
         "engine",
         "kernel",
         "block",
@@ -476,7 +560,8 @@ fn scene(args: SceneArgs) -> CliResult {
     for r in &rows {
         let vs_embree = r.vs_embree.map_or(String::new(), |x| format!("{x:.2}x"));
         println!(
-            "{:<8} {:<8} {:>5} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x {:>11.2}x {:>10}",
+            "{:<8} {:<8} {:<8} {:>5} {:>7} {:>10.3} {:>10.3} {:>9.2} {:>11.2}x {:>11.2}x {:>10}",
+            r.rays_kind,
             r.engine,
             r.kernel,
             r.block,

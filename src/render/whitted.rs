@@ -20,6 +20,7 @@
 use glam::Vec3;
 
 use crate::accel::CountedAccel;
+use crate::bounds::Aabb;
 use crate::ray::{Hit, Ray};
 use crate::render::counting::{Tally, TileCounter};
 use crate::render::kernel::{BATCH, Rays, TraceKernel};
@@ -51,7 +52,12 @@ pub struct Tracer<'a, A> {
 /// f32, so this keeps several hundred ulps between a surface and the start of
 /// its secondary rays, while staying far below any feature size of the SPD scenes.
 pub fn ray_epsilon(scene: &Scene, eye: Vec3) -> f32 {
-    let b = scene.bounds();
+    epsilon_for(scene.bounds(), eye)
+}
+
+/// [`ray_epsilon`] of a scene whose bounded primitives fill `bounds`, seen from `eye`.
+pub fn epsilon_for(bounds: Aabb, eye: Vec3) -> f32 {
+    let b = bounds;
     let mut scale = eye.abs().max_element();
     if !b.is_empty() {
         scale = scale

@@ -50,6 +50,21 @@ pub mod wide;
 
 pub use build_sah::{BuildOptions, MAX_DEPTH};
 
+/// Most bytes of a child [`Bvh::prefetch`] asks for.
+const PREFETCH_BYTES: usize = 256;
+
+/// Ask the CPU to load the cache line holding `p` (a hint: any address is fine).
+#[inline(always)]
+fn prefetch_line(p: *const u8) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is a hint that never faults, whatever the address.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(p.cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
 use crate::accel::Accel;
 use crate::accel::stats::{AccelWithStats, CountedAccel, Counter, NoStats};
 use crate::bounds::Aabb;
@@ -70,8 +85,6 @@ pub struct Bvh {
     pairs: Vec<NodePair>,
     /// The same tree collapsed to wide nodes, which single rays traverse.
     wide: Vec<wide::WideNode>,
-    /// Per binary node, the wide node made from it (see [`wide::Collapsed::twin`]).
-    wide_twin: Vec<u32>,
     /// The records of leaves that are neither all triangles nor all spheres,
     /// in leaf order (a leaf is a contiguous run).
     prims: Vec<LeafPrim>,
@@ -197,7 +210,6 @@ impl Bvh {
         let mut bvh = Self {
             pairs,
             wide: Vec::new(),
-            wide_twin: Vec::new(),
             prims: leaf_prims,
             triangle_blocks,
             sphere_blocks,
@@ -208,7 +220,7 @@ impl Bvh {
             skipped,
         };
         let collapsed = wide::collapse(&bvh);
-        (bvh.wide, bvh.wide_twin) = (collapsed.nodes, collapsed.twin);
+        bvh.wide = collapsed.nodes;
         bvh
     }
 
@@ -224,18 +236,34 @@ impl Bvh {
         &self.pairs[pair as usize]
     }
 
-    /// Where a single ray can take over binary node `id` in the wide tree: the
-    /// wide node made from it, or the same leaf; None for a binary node opened
-    /// inside a wide node.
+    /// Start loading what `child` leads to into the cache: the wide node's
+    /// lines, or the first lines of the leaf's blocks.
     #[inline(always)]
-    pub fn wide_twin(&self, id: NodeId) -> Option<wide::ChildRef> {
-        let node = self.node(id);
-        if node.is_leaf() {
-            return Some(wide::ChildRef::leaf(node.first, node.meta));
-        }
-        match self.wide_twin[id as usize] {
-            u32::MAX => None,
-            at => Some(wide::ChildRef::inner(at)),
+    pub fn prefetch(&self, child: wide::ChildRef) {
+        let (start, bytes) = if !child.is_leaf() {
+            let node = self.wide.as_ptr().wrapping_add(child.node());
+            (node.cast::<u8>(), size_of::<wide::WideNode>())
+        } else {
+            match child.contents() {
+                LeafRef::Triangles { blocks, .. } => (
+                    self.triangle_blocks
+                        .as_ptr()
+                        .wrapping_add(blocks.start)
+                        .cast::<u8>(),
+                    blocks.len() * size_of::<TriangleBlock>(),
+                ),
+                LeafRef::Spheres { blocks, .. } => (
+                    self.sphere_blocks
+                        .as_ptr()
+                        .wrapping_add(blocks.start)
+                        .cast::<u8>(),
+                    blocks.len() * size_of::<SphereBlock>(),
+                ),
+                LeafRef::Prims(_) => return,
+            }
+        };
+        for line in (0..bytes.min(PREFETCH_BYTES)).step_by(64) {
+            prefetch_line(start.wrapping_add(line));
         }
     }
 
@@ -323,7 +351,6 @@ impl Bvh {
             sah_cost: 0.0,
             bytes: self.pairs.len() * size_of::<NodePair>()
                 + self.wide.len() * size_of::<wide::WideNode>()
-                + self.wide_twin.len() * size_of::<u32>()
                 + self.prims.len() * size_of::<LeafPrim>()
                 + self.triangle_blocks.len() * size_of::<TriangleBlock>()
                 + self.sphere_blocks.len() * size_of::<SphereBlock>()

@@ -7,7 +7,7 @@ use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 
 use crate::accel::bvh::ray_box::SlabRay;
-use crate::accel::bvh::traverse_packet::{PacketQuery, traverse_packet};
+use crate::accel::bvh::traverse_packet::{PacketQuery, lane_bits, traverse_packet};
 use crate::accel::bvh::traverse_single::{RayQuery, traverse};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
@@ -92,14 +92,17 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
         });
     }
 
-    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S) {
-        let ray = self.rays.ray(lane);
-        let mut query = AnyHit {
-            ray: &ray,
-            hit: Hit::none(&ray),
-        };
-        if traverse(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
-            self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, stats: &mut S) {
+        for lane in lane_bits(lanes) {
+            stats.lane(lane);
+            let ray = self.rays.ray(lane);
+            let mut query = AnyHit {
+                ray: &ray,
+                hit: Hit::none(&ray),
+            };
+            if traverse(bvh, ChildRef::ROOT, &SlabRay::new(&ray), &mut query, stats) {
+                self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+            }
         }
     }
 }

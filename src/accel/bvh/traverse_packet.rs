@@ -8,10 +8,11 @@
 //! - Children are visited near first by the packet's majority direction along the
 //!   node's split axis; a far child is pushed with its lanes' entry t, and lanes
 //!   whose hit has come closer than that are dropped when it is popped.
-//! - In an incoherent packet ([`is_coherent`]), when no more than
-//!   [`SINGLE_RAY_LANES`] lanes are left in a subtree that the wide tree also
-//!   has (or a leaf), they finish it as single rays in the wide tree, which is
-//!   cheaper than dragging an almost empty packet along.
+//! - An incoherent packet ([`is_coherent`]) is traced lane by lane as single
+//!   rays in the wide tree from the root (Embree's hybrid packets likewise
+//!   turn to single rays as they diverge, Benthin 2012), which is as fast as
+//!   single rays and faster than dragging sparse packets down the binary tree.
+//!   Coherent packets never fall back (see [`is_coherent`]).
 //!
 //! One loop serves nearest-hit and any-hit queries ([`PacketQuery`]).
 
@@ -30,10 +31,6 @@ use crate::geometry::Intersect;
 use crate::packet::{HitPacket, RayPacket};
 use crate::simd::SimdFloat;
 
-/// In an incoherent packet, a subtree with this many lanes or fewer left is
-/// finished by single-ray traversal.
-pub const SINGLE_RAY_LANES: u32 = 2;
-
 /// Cosine of the widest angle (about 8°) between a lane's direction and the
 /// packet's mean direction for which a packet counts as coherent.
 pub const COHERENT_COS: f32 = 0.99;
@@ -49,8 +46,18 @@ pub trait PacketQuery<F: SimdFloat> {
     /// Test the leaf primitives `prims` on the lanes of `mask`.
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
 
-    /// Finish lane `lane` in the subtree `start` of the wide tree as a single ray.
-    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S);
+    /// Trace the lanes of the mask `lanes` through the wide tree as single
+    /// rays, one after the other (reporting each to [`Counter::lane`]).
+    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, stats: &mut S);
+}
+
+/// The lanes of the mask `lanes`, lowest first.
+pub fn lane_bits(mut lanes: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        let lane = (lanes != 0).then(|| lanes.trailing_zeros() as usize)?;
+        lanes &= lanes - 1;
+        Some(lane)
+    })
 }
 
 /// Bit `k` set when most active lanes point down axis `k`: the packet then
@@ -72,7 +79,7 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
 /// leaves, where even one or two lanes finish a subtree as a packet faster than
 /// as single rays (measured on primary rays of the dragon: 1.5× faster with no
 /// fallback than with a fallback at 2 lanes), so coherent packets never fall
-/// back; incoherent ones (random rays: 1.2× faster with it) do.
+/// back; incoherent ones are traced as single rays from the root.
 #[inline]
 pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
     let sum = |d: F| {
@@ -106,10 +113,18 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     }
     let slab = SlabPacket::new(rays);
     let upper_first = majority_negative(rays);
-    let fallback_lanes = if is_coherent(rays) { 0 } else { SINGLE_RAY_LANES };
     let (root_mask, _) = slab.node_entry(bvh.node(ROOT), query.t_max());
     let mut mask = root_mask & query.live();
     if mask.none() {
+        return;
+    }
+    if !is_coherent(rays) {
+        // Incoherent: the lanes share too little of their paths to gain from
+        // one box test for all; as single rays walked in turn, their memory
+        // accesses overlap instead.
+        let lanes = mask.bitmask();
+        stats.fallback(u64::from(lanes.count_ones()));
+        query.finish_lanes(bvh, lanes, stats);
         return;
     }
     // Far children still to visit, with their lanes' entry t (NaN in the other lanes).
@@ -117,19 +132,6 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     let mut id = ROOT;
     loop {
         loop {
-            let lanes = mask.bitmask();
-            if lanes.count_ones() <= fallback_lanes
-                && let Some(start) = bvh.wide_twin(id)
-            {
-                stats.fallback(u64::from(lanes.count_ones()));
-                let mut bits = lanes;
-                while bits != 0 {
-                    stats.lane(bits.trailing_zeros() as usize);
-                    query.finish_single(bvh, start, bits.trailing_zeros() as usize, stats);
-                    bits &= bits - 1;
-                }
-                break;
-            }
             stats.packet_node(mask);
             let node = bvh.node(id);
             if node.is_leaf() {
@@ -213,15 +215,18 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
         });
     }
 
-    fn finish_single<S: Counter>(&mut self, bvh: &Bvh, start: ChildRef, lane: usize, stats: &mut S) {
-        let ray = self.rays.ray(lane);
-        let mut hit = self.hits.hit(lane);
-        let mut query = Nearest {
-            ray: &ray,
-            hit: &mut hit,
-        };
-        traverse(bvh, start, &SlabRay::new(&ray), &mut query, stats);
-        self.hits.set_hit(lane, &hit);
+    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, stats: &mut S) {
+        for lane in lane_bits(lanes) {
+            stats.lane(lane);
+            let ray = self.rays.ray(lane);
+            let mut hit = self.hits.hit(lane);
+            let mut query = Nearest {
+                ray: &ray,
+                hit: &mut hit,
+            };
+            traverse(bvh, ChildRef::ROOT, &SlabRay::new(&ray), &mut query, stats);
+            self.hits.set_hit(lane, &hit);
+        }
     }
 }
 

@@ -169,22 +169,17 @@ impl<F: SimdFloat> WideNodeOf<F> {
     }
 }
 
-/// The wide tree: its nodes, and for each binary node the wide node made
-/// from it, if any.
+/// The wide tree.
 pub struct Collapsed {
     /// Wide nodes; node 0 holds the root's children (or the root itself when
     /// it is a leaf; nothing for an empty tree).
     pub nodes: Vec<WideNode>,
-    /// Per binary [`NodeId`]: the index of the wide node holding its children,
-    /// or `u32::MAX` for leaves and for binary nodes opened inside a wide node.
-    pub twin: Vec<u32>,
 }
 
 /// Collapse the binary tree of `bvh` into wide nodes.
 pub fn collapse(bvh: &Bvh) -> Collapsed {
     let mut out = Collapsed {
         nodes: vec![WideNode::empty()],
-        twin: vec![u32::MAX; 2 * bvh.pairs.len()],
     };
     if !bvh.is_empty() {
         fill(bvh, ROOT, 0, 0, &mut out);
@@ -195,9 +190,6 @@ pub fn collapse(bvh: &Bvh) -> Collapsed {
 /// Fill wide node `at` with the binary subtree under `id`, depth first;
 /// `pending` is the path's pending count above it (see [`PENDING_BUDGET`]).
 fn fill(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Collapsed) {
-    if !bvh.node(id).is_leaf() {
-        out.twin[id as usize] = at as u32;
-    }
     let area = |c: NodeId| {
         let n = bvh.node(c);
         Aabb::new(n.min, n.max).surface_area()

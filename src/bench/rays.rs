@@ -1,0 +1,284 @@
+//! The standard ray kinds a renderer traces, as the field measures traversal
+//! (Aila & Laine, "Understanding the efficiency of ray traversal on GPUs",
+//! HPG 2009): coherent `primary` rays, `shadow` and ambient-occlusion (`ao`)
+//! any-hit rays, `diffuse` bounce rays and uniformly `random` rays.
+//!
+//! Every kind is made once, before timing, from a seed, so every engine traces
+//! the same rays. Primary rays go through pixel centres in 16×16 tiles of
+//! 4×2-pixel packets; the secondary kinds start at the primary hit points
+//! (found with raypack's BVH, untimed), one ray per hit, and are packed as
+//! their primary rays are: a packet holds the secondary rays of one 4×2-pixel
+//! block, its lanes whose primary ray missed inactive. Their origins are
+//! pushed off the surface along the facing normal by the scene's
+//! [`epsilon_for`], which is also their `t_min`.
+
+use glam::Vec3;
+
+use crate::accel::{Accel, Bvh};
+use crate::bounds::Aabb;
+use crate::camera::Camera;
+use crate::geometry::Primitive;
+use crate::packet::RayPacket8;
+use crate::ray::Ray;
+use crate::render::whitted::epsilon_for;
+use crate::rng::Rng;
+
+/// A standard kind of ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RayKind {
+    /// Camera rays through pixel centres (nearest hit).
+    Primary,
+    /// From the primary hit points to a light (any hit).
+    Shadow,
+    /// Ambient occlusion: cosine-distributed about the facing normal, of length
+    /// [`AO_LENGTH`] times the scene box's diagonal (any hit).
+    Ao,
+    /// Diffuse bounces: cosine-distributed about the facing normal, unbounded (nearest hit).
+    Diffuse,
+    /// From uniform points of the scene box in uniform directions (nearest hit).
+    Random,
+}
+
+/// Length of ambient-occlusion rays, as a fraction of the scene box's diagonal.
+pub const AO_LENGTH: f32 = 0.1;
+
+impl RayKind {
+    /// Every kind, in report order.
+    pub const ALL: [RayKind; 5] = [Self::Primary, Self::Shadow, Self::Ao, Self::Diffuse, Self::Random];
+
+    /// The name in reports and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Primary => "primary",
+            Self::Shadow => "shadow",
+            Self::Ao => "ao",
+            Self::Diffuse => "diffuse",
+            Self::Random => "random",
+        }
+    }
+
+    /// The query rays of this kind ask.
+    pub fn query(self) -> Query {
+        match self {
+            Self::Shadow | Self::Ao => Query::AnyHit,
+            Self::Primary | Self::Diffuse | Self::Random => Query::Nearest,
+        }
+    }
+}
+
+/// What a ray asks of the structure.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Query {
+    /// The nearest hit (`intersect`, `rtcIntersect*`).
+    Nearest,
+    /// Whether anything is hit (`occluded`, `rtcOccluded*`).
+    AnyHit,
+}
+
+/// The rays of one kind, one by one and in 8-ray packets (the same rays).
+#[derive(Clone, Debug)]
+pub struct RaySet {
+    /// Their kind.
+    pub kind: RayKind,
+    /// The rays, packet by packet in lane order.
+    pub rays: Vec<Ray>,
+    /// The same rays in packets (inactive lanes where a block has fewer).
+    pub packets: Vec<RayPacket8>,
+}
+
+impl RaySet {
+    /// A set of `kind` from packets of up to 8 rays, given as (rays, active mask).
+    fn from_blocks(kind: RayKind, blocks: impl IntoIterator<Item = ([Ray; 8], u32)>) -> Self {
+        let mut rays = Vec::new();
+        let mut packets = Vec::new();
+        for (lanes, mask) in blocks {
+            if mask == 0 {
+                continue;
+            }
+            rays.extend((0..8).filter(|i| mask & (1 << i) != 0).map(|i| lanes[i]));
+            packets.push(RayPacket8::from_rays_masked(&lanes, mask));
+        }
+        Self { kind, rays, packets }
+    }
+}
+
+/// Where the standard kinds start: the scene, its camera and light.
+pub struct RaySource<'a> {
+    /// The primitives.
+    pub prims: &'a [Primitive],
+    /// Their box (bounded primitives).
+    pub bounds: Aabb,
+    /// The camera of the primary rays.
+    pub camera: &'a Camera,
+    /// The light of the shadow rays: the scene's first, or [`default_light`].
+    pub light: Vec3,
+    /// Random rays to make.
+    pub random: usize,
+    /// Seed of every random choice.
+    pub seed: u64,
+}
+
+/// A light for scenes without one: above the middle of `bounds`, one diagonal higher.
+pub fn default_light(bounds: Aabb) -> Vec3 {
+    let c = bounds.center();
+    Vec3::new(c.x, bounds.max.y + bounds.extent().length(), c.z)
+}
+
+impl RaySource<'_> {
+    /// The rays of each of `kinds`, in that order.
+    pub fn make(&self, kinds: &[RayKind]) -> Vec<RaySet> {
+        let blocks = self.primary_blocks();
+        let needs_hits = kinds
+            .iter()
+            .any(|k| !matches!(k, RayKind::Primary | RayKind::Random));
+        let surfaces = if needs_hits {
+            self.surfaces(&blocks)
+        } else {
+            Vec::new()
+        };
+        let eps = epsilon_for(self.bounds, self.camera.eye);
+        kinds
+            .iter()
+            .map(|&kind| match kind {
+                RayKind::Primary => RaySet::from_blocks(kind, blocks.iter().copied()),
+                RayKind::Random => {
+                    let rays =
+                        crate::scene::generate::random::random_rays(self.bounds, self.random, self.seed);
+                    RaySet {
+                        kind,
+                        packets: rays.chunks(8).map(RayPacket8::from_rays).collect(),
+                        rays,
+                    }
+                }
+                RayKind::Shadow | RayKind::Ao | RayKind::Diffuse => {
+                    // One generator per kind, so a kind's rays do not depend on the others asked for.
+                    let mut rng = Rng::new(self.seed ^ (kind as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+                    let ao_length = AO_LENGTH * self.bounds.extent().length();
+                    let blocks = surfaces.iter().map(|block| {
+                        let mut mask = 0;
+                        let lanes = std::array::from_fn(|i| match block[i] {
+                            Some((p, n)) => {
+                                mask |= 1 << i;
+                                let origin = p + eps * n;
+                                match kind {
+                                    RayKind::Shadow => {
+                                        let to_light = self.light - origin;
+                                        let distance = to_light.length();
+                                        Ray::new(origin, to_light / distance, eps, distance)
+                                    }
+                                    RayKind::Ao => {
+                                        Ray::new(origin, cosine_direction(n, &mut rng), eps, ao_length)
+                                    }
+                                    _ => Ray::new(origin, cosine_direction(n, &mut rng), eps, f32::INFINITY),
+                                }
+                            }
+                            None => Ray::new(Vec3::ZERO, Vec3::Z, 0.0, 0.0),
+                        });
+                        (lanes, mask)
+                    });
+                    RaySet::from_blocks(kind, blocks)
+                }
+            })
+            .collect()
+    }
+
+    /// The primary rays of the camera, tile by tile, 4×2-pixel block by block.
+    fn primary_blocks(&self) -> Vec<([Ray; 8], u32)> {
+        let camera = self.camera;
+        let (w, h) = (camera.width, camera.height);
+        let mut blocks = Vec::with_capacity((w * h) as usize / 8);
+        for ty in (0..h).step_by(16) {
+            for tx in (0..w).step_by(16) {
+                for py in (ty..(ty + 16).min(h)).step_by(2) {
+                    for px in (tx..(tx + 16).min(w)).step_by(4) {
+                        let mut mask = 0;
+                        let lanes = std::array::from_fn(|k| {
+                            let (i, j) = (px + k as u32 % 4, py + k as u32 / 4);
+                            if i < w && j < h {
+                                mask |= 1 << k;
+                                camera.pixel_ray(i, j)
+                            } else {
+                                Ray::new(Vec3::ZERO, Vec3::Z, 0.0, 0.0)
+                            }
+                        });
+                        blocks.push((lanes, mask));
+                    }
+                }
+            }
+        }
+        blocks
+    }
+
+    /// Per primary ray of each block: its hit point and the normal facing it, if it hit.
+    fn surfaces(&self, blocks: &[([Ray; 8], u32)]) -> Vec<[Option<(Vec3, Vec3)>; 8]> {
+        use rayon::prelude::*;
+        let bvh = Bvh::new(self.prims);
+        blocks
+            .par_iter()
+            .map(|(lanes, mask)| {
+                std::array::from_fn(|i| {
+                    if mask & (1 << i) == 0 {
+                        return None;
+                    }
+                    let ray = &lanes[i];
+                    let hit = bvh.intersect(ray);
+                    if !hit.is_hit() {
+                        return None;
+                    }
+                    let n = self.prims[hit.prim as usize].geometric_normal(ray, &hit);
+                    let n = if n.dot(ray.dir) > 0.0 { -n } else { n };
+                    Some((ray.at(hit.t), n)).filter(|(p, n)| p.is_finite() && n.is_normalized())
+                })
+            })
+            .collect()
+    }
+}
+
+/// A direction about the unit normal `n`, with density proportional to the
+/// cosine of its angle to `n` (Malley's method: a uniform point of the unit
+/// disc lifted onto the hemisphere).
+pub fn cosine_direction(n: Vec3, rng: &mut Rng) -> Vec3 {
+    let (u1, u2) = (rng.f32(), rng.f32());
+    let r = u1.sqrt();
+    let phi = std::f32::consts::TAU * u2;
+    let (a, b) = n.any_orthonormal_pair();
+    let d = r * phi.cos() * a + r * phi.sin() * b + (1.0 - u1).max(0.0).sqrt() * n;
+    d.normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_packs_its_rays_in_order() {
+        let prims = crate::scene::generate::random::bumpy_sphere(500, 1);
+        let bounds = crate::bench::traversal::scene_bounds(&prims);
+        let camera = crate::scene::generate::random::framing_camera(bounds, 40, 20);
+        let source = RaySource {
+            prims: &prims,
+            bounds,
+            camera: &camera,
+            light: default_light(bounds),
+            random: 100,
+            seed: 2,
+        };
+        let sets = source.make(&RayKind::ALL);
+        assert_eq!(sets[0].rays.len(), 800);
+        assert_eq!(sets[4].packets.len(), 13);
+        for set in &sets {
+            let lanes = set
+                .packets
+                .iter()
+                .flat_map(|p| (0..8).filter(|&i| p.is_active(i)).map(|i| p.ray(i)));
+            assert!(lanes.eq(set.rays.iter().copied()), "{:?}", set.kind);
+        }
+        // The secondary kinds start at the primary hits, and some primary rays miss.
+        for set in &sets[1..4] {
+            assert!(!set.rays.is_empty() && set.rays.len() < 800, "{:?}", set.kind);
+            assert!(set.rays.iter().all(|r| r.dir.is_normalized() && r.t_min > 0.0));
+        }
+    }
+}
