@@ -90,10 +90,8 @@ fn traversal_bench_prints_growth_from_the_first_scene() {
         "traversal",
         "--sizes",
         "200,400,800",
-        "--width",
-        "32",
-        "--height",
-        "16",
+        "--size",
+        "32x16",
         "--random",
         "64",
         "--rounds",
@@ -140,7 +138,7 @@ fn unreadable_scene_file_exits_with_code_2() {
     let dir = scratch("bvh-bench");
     let path = dir.join("scene.unknown");
     std::fs::write(&path, "not a scene\n").unwrap();
-    let out = raypack(&["bench", "traversal", "--file", path.to_str().unwrap()]);
+    let out = raypack(&["bench", "traversal", path.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
     assert!(err.contains("scene.unknown"), "{err}");

@@ -32,7 +32,7 @@ pub enum RayKind {
     /// From the primary hit points to a light (any hit).
     Shadow,
     /// Ambient occlusion: cosine-distributed about the facing normal, of length
-    /// [`AO_LENGTH`] times the scene box's diagonal (any hit).
+    /// a tenth of the scene box's diagonal (`AO_LENGTH`; any hit).
     Ao,
     /// Diffuse bounces: cosine-distributed about the facing normal, unbounded (nearest hit).
     Diffuse,

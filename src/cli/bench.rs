@@ -28,22 +28,20 @@ pub enum BenchCommand {
 /// Options of `bench traversal`.
 #[derive(Args, Debug)]
 pub struct TraversalArgs {
-    /// Generated scene kind: `mesh` (bumpy-sphere triangles) or `spheres`.
+    /// The scene to measure (a file such as assets/dragon.ply, or
+    /// `gen:NAME[:N[:SEED]]`), with its camera or a framing one; without it, a
+    /// family of generated scenes of `--sizes` primitives.
+    pub scene: Option<std::path::PathBuf>,
+    /// Generated scene family when no SCENE is given: `mesh` (bumpy-sphere
+    /// triangles) or `spheres`.
     #[arg(long, default_value = "mesh", value_parser = ["mesh", "spheres"])]
-    pub scene: String,
+    pub generated: String,
     /// Primitive counts of the generated scenes.
     #[arg(long, value_delimiter = ',', default_value = "1000,10000,100000,1000000")]
     pub sizes: Vec<usize>,
-    /// Measure this scene instead (a file such as assets/dragon.ply, or
-    /// `gen:NAME[:N[:SEED]]`), with its camera or a framing one.
-    #[arg(long)]
-    pub file: Option<std::path::PathBuf>,
-    /// Image width of the primary rays.
-    #[arg(long, default_value_t = 1024)]
-    pub width: u32,
-    /// Image height of the primary rays.
-    #[arg(long, default_value_t = 1024)]
-    pub height: u32,
+    /// Image size of the primary rays, WIDTHxHEIGHT.
+    #[arg(long, value_parser = parse_size, default_value = "1024x1024")]
+    pub size: (u32, u32),
     /// Random rays per scene.
     #[arg(long, default_value_t = 1 << 20)]
     pub random: usize,
@@ -105,16 +103,13 @@ fn traversal(args: TraversalArgs) -> CliResult {
     let first_threads = args.threads.first().copied().unwrap_or(1);
     let mut builder = Builder::new(&args.engine, first_threads).map_err(CliError::BadInput)?;
 
-    let setups: Vec<TraversalSetup> = match &args.file {
+    let (width, height) = args.size;
+    let setups: Vec<TraversalSetup> = match &args.scene {
         Some(path) => {
             let (scene, _) = load_scene(path)?;
             let camera = match scene.camera {
-                Some(spec) => spec.camera_at(args.width, args.height),
-                None => Ok(framing_camera(
-                    scene_bounds(&scene.primitives),
-                    args.width,
-                    args.height,
-                )),
+                Some(spec) => spec.camera_at(width, height),
+                None => Ok(framing_camera(scene_bounds(&scene.primitives), width, height)),
             }
             .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
             let name = path
@@ -134,7 +129,7 @@ fn traversal(args: TraversalArgs) -> CliResult {
             .sizes
             .iter()
             .filter_map(|&n| {
-                TraversalSetup::generated(&args.scene, n, (args.width, args.height), args.random, &args.rays)
+                TraversalSetup::generated(&args.generated, n, args.size, args.random, &args.rays)
             })
             .collect(),
     };

@@ -16,15 +16,13 @@ pub fn raypack(args: &[&str]) -> Output {
 
 /// A `bench traversal` small enough for a test: two tiny generated meshes,
 /// 32×16 primary rays, 256 random rays, one round.
-pub const TINY_TRAVERSAL: [&str; 12] = [
+pub const TINY_TRAVERSAL: [&str; 10] = [
     "bench",
     "traversal",
     "--sizes",
     "200,400",
-    "--width",
-    "32",
-    "--height",
-    "16",
+    "--size",
+    "32x16",
     "--random",
     "256",
     "--rounds",
