@@ -38,6 +38,9 @@ fn small_spd_scenes_count_the_same_with_the_bvh_and_brute_force() {
         "spd_balls_small.nff",
         "spd_mount_small.nff",
         "spd_gears_small.nff",
+        "spd_rings_small.nff",
+        "spd_tree_small.nff",
+        "spd_teapot_small.nff",
     ] {
         let path = scene_path(name).expect("the SPD scenes are in scenes/");
         let scene = raypack::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -57,6 +60,9 @@ fn small_spd_scenes_count_the_same_with_both_kernels() {
         "spd_balls_small.nff",
         "spd_mount_small.nff",
         "spd_gears_small.nff",
+        "spd_rings_small.nff",
+        "spd_tree_small.nff",
+        "spd_teapot_small.nff",
     ] {
         let Some(path) = scene_path(name) else {
             continue;
