@@ -28,3 +28,4 @@ pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod simd;
+pub mod statistics;

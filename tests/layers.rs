@@ -16,6 +16,7 @@ const LAYERS: &[&[&str]] = &[
         "engine",
         "atomic_file",
         "plural",
+        "statistics",
     ],
     &["ray"],
     &["packet"],
