@@ -19,6 +19,7 @@ pub mod compare;
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod engine;
+pub mod environment;
 pub mod geometry;
 pub mod huge_pages;
 pub mod packet;

@@ -17,6 +17,7 @@ const LAYERS: &[&[&str]] = &[
         "atomic_file",
         "plural",
         "statistics",
+        "environment",
     ],
     &["ray"],
     &["packet"],
