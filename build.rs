@@ -1,6 +1,9 @@
-//! Build script. It acts only for the `embree` feature: it finds the directory
-//! holding `libembree4.so`, adds it to the link search path, and records it as an
-//! rpath so that binaries, tests and benches run without `LD_LIBRARY_PATH`.
+//! Build script. It records the build for `raypack env` (the compiler's
+//! version, the profile, the flags and the git commit, as `RAYPACK_BUILD_*`
+//! variables that `src/environment.rs` reads with `env!`), and, for the `embree`
+//! feature, finds the directory holding `libembree4.so`, adds it to the link
+//! search path, and records it as an rpath so that binaries, tests and benches
+//! run without `LD_LIBRARY_PATH`.
 //!
 //! The directory is, in order: `$EMBREE4_LIB_DIR`; the cache that
 //! `scripts/install-embree.sh` fills (`~/.cache/raypack/embree-4.4.0`); a system
@@ -8,6 +11,7 @@
 
 use std::env;
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// Where `scripts/install-embree.sh` unpacks the Embree wheel (keep the two in step).
 const CACHE_SUBDIR: &str = "raypack/embree-4.4.0";
@@ -35,6 +39,7 @@ fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=EMBREE4_LIB_DIR");
     println!("cargo:rerun-if-env-changed=XDG_CACHE_HOME");
+    record_build();
     if env::var_os("CARGO_FEATURE_EMBREE").is_none() {
         return;
     }
@@ -65,6 +70,45 @@ fn main() {
         "the `embree` feature needs Embree 4: run scripts/install-embree.sh \
          (or set EMBREE4_LIB_DIR to the directory holding libembree4.so)"
     );
+}
+
+/// The output of `program args…`, trimmed, if it ran and succeeded.
+fn output_of(program: &str, args: &[&str]) -> Option<String> {
+    let out = Command::new(program).args(args).output().ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+/// The build, for `raypack env`: rustc's version, the profile, the flags
+/// (`CARGO_ENCODED_RUSTFLAGS`, separated by spaces) and the git commit
+/// ("unknown" outside a git checkout). The script runs again when HEAD moves, so
+/// the commit stays current.
+fn record_build() {
+    let rustc = env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let version = output_of(&rustc, &["--version"]).unwrap_or_else(|| "unknown".into());
+    let profile = env::var("PROFILE").unwrap_or_else(|_| "unknown".into());
+    let flags = env::var("CARGO_ENCODED_RUSTFLAGS")
+        .unwrap_or_default()
+        .replace('\x1f', " ");
+    let commit = output_of("git", &["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    // HEAD, and the branch it points to (in a worktree, both live in the common dir).
+    for path in ["HEAD", "packed-refs"]
+        .into_iter()
+        .filter_map(|p| output_of("git", &["rev-parse", "--git-path", p]))
+        .chain(
+            output_of("git", &["symbolic-ref", "-q", "HEAD"])
+                .and_then(|r| output_of("git", &["rev-parse", "--git-path", &r])),
+        )
+        .filter(|p| Path::new(p).exists())
+    {
+        // (A missing file would rerun the script on every build.)
+        println!("cargo:rerun-if-changed={path}");
+    }
+    println!("cargo:rustc-env=RAYPACK_BUILD_RUSTC={version}");
+    println!("cargo:rustc-env=RAYPACK_BUILD_PROFILE={profile}");
+    println!("cargo:rustc-env=RAYPACK_BUILD_RUSTFLAGS={flags}");
+    println!("cargo:rustc-env=RAYPACK_BUILD_COMMIT={commit}");
 }
 
 fn link_from(dir: &Path) {

@@ -19,6 +19,7 @@ pub mod compare;
 #[cfg(feature = "embree")]
 pub mod embree;
 pub mod engine;
+pub mod environment;
 pub mod geometry;
 pub mod huge_pages;
 pub mod packet;
@@ -29,3 +30,4 @@ pub mod render;
 pub mod rng;
 pub mod scene;
 pub mod simd;
+pub mod statistics;

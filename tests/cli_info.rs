@@ -1,5 +1,6 @@
 //! `raypack info`: works on every scene (text and JSON), and exits 2 with
-//! `file:line: message` and nothing on stdout for a bad one.
+//! `file:line: message` and nothing on stdout for a bad one; `raypack env`
+//! describes the machine and the build.
 
 mod scratch;
 
@@ -126,4 +127,55 @@ fn info_on_a_bad_scene_exits_2_with_file_and_line() {
     let out = info(&[dir.path().join("missing.nff").as_os_str()]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing.nff: cannot read"));
+}
+
+/// `raypack env`: the machine and build, as text and as JSON, with the commit
+/// the binary was built from.
+#[test]
+fn env_describes_the_machine_and_the_build() {
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_raypack"))
+            .args(args)
+            .output()
+            .expect("run raypack")
+    };
+    let out = run(&["env"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    for row in [
+        "cpu ",
+        "isa (build) ",
+        "isa (cpu) ",
+        "thp ",
+        "rustc ",
+        "profile ",
+        "commit ",
+        "date ",
+    ] {
+        assert!(
+            text.lines().any(|l| l.starts_with(row)),
+            "no {row:?} row in\n{text}"
+        );
+    }
+
+    let out = run(&["env", "--json"]);
+    assert!(out.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+    assert!(json["threads"].as_u64().unwrap() >= 1);
+    assert!(json["rustc"].as_str().unwrap().starts_with("rustc 1."), "{json}");
+    assert!(json["date"].as_str().unwrap().ends_with('Z'), "{json}");
+    let head = Command::new("git")
+        .args(["rev-parse", "HEAD"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string());
+    if let Some(head) = head {
+        assert_eq!(json["git_commit"], head.as_str());
+    }
+    assert_eq!(json["embree"].is_object(), cfg!(feature = "embree"), "{json}");
+
+    let out = run(&["env", "--no-such-flag"]);
+    assert_eq!(out.status.code(), Some(2));
 }

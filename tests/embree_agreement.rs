@@ -60,7 +60,7 @@ fn check_scene(scene: &Scene, embree: &EmbreeScene, side: u32, random: usize) {
         for kernel in [Kernel::Scalar, Kernel::Packet8] {
             let a = trace_rays(&raypack, rays, kernel);
             let b = trace_rays(embree, rays, kernel);
-            let g = Agreement::compare(rays, &a, &b, AgreementOptions::default());
+            let g = Agreement::compare(&scene.primitives, rays, &a, &b, AgreementOptions::default());
             eprintln!(
                 "{} ({}) {set} {kernel:?}: hit {:.6} prim {:.6} ties {} different {} only raypack {} only embree {} t error p50 {:.1e} p99 {:.1e} max {:.1e}",
                 scene.source,

@@ -72,6 +72,75 @@ fn check_reports_agreement_and_exits_by_the_bars() {
     );
 }
 
+/// Two triangles sharing the edge x = 0 of the plane z = 0, seen head-on by a
+/// 7×7 camera: the middle column of pixel centres hits the shared edge exactly.
+const SHARED_EDGE_NFF: &str = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0.01\nresolution 7 7\n\
+b 0 0 0\nl 0 0 10\nf 1 1 1 0.8 0.2 10 0 1\n\
+p 3\n-1 -1 0\n0 -1 0\n0 1 0\np 3\n0 -1 0\n1 -1 0\n0 1 0\n";
+
+#[test]
+fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
+    let dir = cli_support::scratch("check-shared-edge");
+    let scene = dir.join("edge.nff");
+    std::fs::write(&scene, SHARED_EDGE_NFF).unwrap();
+    let png = dir.join("diff.png");
+    let output = raypack()
+        .arg("check")
+        .arg(&scene)
+        .args(["--rays", "primary", "--json", "--diff-image"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", cli_support::stderr(&output));
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let set = &report["sets"][0];
+    let classes = &set["classes"];
+    // On the edge each engine may pick either triangle; here (Embree 4.4.0)
+    // they pick differently on the 3 pixels whose rays meet the triangles.
+    let ties = classes["edge_tie"].as_u64().unwrap();
+    assert!(ties >= 1, "no tie seen: {set:#}");
+    for class in ["hit_miss", "coincident", "different_primitive", "t_beyond_ulps"] {
+        assert_eq!(classes[class], 0, "{class}: {set:#}");
+    }
+    for d in set["agreement"]["disagreements"].as_array().unwrap() {
+        assert_eq!(d["kind"], "tie", "{d}");
+        assert_eq!(d["origin"][0], 0.0, "on the middle column: {d}");
+    }
+    assert!(report["environment"]["cpu_model"].is_string(), "{report:#}");
+    assert_eq!(report["max_ulps"], 16);
+
+    // The picture: the render is 7×7 (the caption band below it); the tie
+    // pixels are blue, in the middle column.
+    let img = image::open(&png).unwrap().to_rgb8();
+    let blue = raypack::compare::diff_image::colour(raypack::compare::DisagreementKind::Tie);
+    let marked: Vec<(u32, u32)> = (0..7)
+        .flat_map(|y| (0..7).map(move |x| (x, y)))
+        .filter(|&(x, y)| *img.get_pixel(x, y) == blue)
+        .collect();
+    assert_eq!(marked.len() as u64, ties, "{marked:?}");
+    assert!(marked.iter().all(|&(x, _)| x == 3), "{marked:?}");
+
+    // The same on random rays only is bad input (exit 2), and so is a non-PNG name.
+    let output = raypack()
+        .arg("check")
+        .arg(&scene)
+        .args(["--rays", "random", "--diff-image"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(cli_support::stderr(&output).contains("primary"));
+    let output = raypack()
+        .arg("check")
+        .arg(&scene)
+        .args(["--diff-image"])
+        .arg(dir.join("diff.jpg"))
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(!dir.join("diff.jpg").exists());
+}
+
 #[test]
 fn trace_through_embree_matches_raypack_on_the_same_file() {
     let dir = std::env::temp_dir().join(format!("raypack-embree-trace-{}", std::process::id()));

@@ -139,7 +139,7 @@ fn shared_edges_and_vertices_are_ties_and_robust_embree_is_watertight() {
             keep: usize::MAX,
             ..Default::default()
         };
-        let g = raypack::compare::Agreement::compare(&rays, &a, &b, options);
+        let g = raypack::compare::Agreement::compare(&prims, &rays, &a, &b, options);
         let (mut raypack_leaks, mut embree_leaks) = (0, 0);
         for d in &g.disagreements {
             if d.kind == DisagreementKind::DifferentPrimitive {

@@ -16,6 +16,8 @@ const LAYERS: &[&[&str]] = &[
         "engine",
         "atomic_file",
         "plural",
+        "statistics",
+        "environment",
     ],
     &["ray"],
     &["packet"],

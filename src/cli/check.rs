@@ -1,7 +1,12 @@
 //! `raypack check SCENE [--rays primary|random|both] [--n N]`: trace the same
 //! rays with raypack and with Embree and report how well they agree: hit/miss,
 //! same primitive, ties on shared edges, relative t error (p50, p99, max), and
-//! the first disagreeing rays with their coordinates. Exits 1 below the bars.
+//! the first disagreeing rays with their coordinates. Every disagreement is
+//! classified (hit/miss flip, tie at a shared edge or vertex, coincident
+//! surfaces, different primitive, same primitive with t beyond `--max-ulps`;
+//! see [`crate::compare::agreement`]) and counted per class; `--diff-image`
+//! draws the primary rays with the disagreeing pixels coloured by class.
+//! Exits 1 below the bars.
 //! Both engines trace the same rays on the same rayon threads, with FTZ/DAZ set;
 //! raypack's side uses `--accel` (the BVH by default, brute force as the reference).
 
@@ -64,6 +69,12 @@ pub struct CheckArgs {
     /// Embree scene mode.
     #[arg(long, value_enum, default_value_t = EmbreeMode::Robust)]
     pub embree_mode: EmbreeMode,
+    /// Ulps of t beyond which two hits on the same primitive are counted as a disagreement.
+    #[arg(long, default_value_t = 16)]
+    pub max_ulps: u32,
+    /// Write the primary rays' picture with disagreeing pixels coloured by class (a .png).
+    #[arg(long, value_name = "PNG")]
+    pub diff_image: Option<PathBuf>,
     /// Print one JSON object instead of the text report.
     #[arg(long)]
     pub json: bool,
@@ -89,15 +100,44 @@ mod with_embree {
     use anyhow::anyhow;
 
     use super::{CheckArgs, RayChoice};
-    use crate::accel::Accel;
+    use crate::atomic_file::AtomicFile;
     use crate::cli::args::{embree_scene, load_scene};
     use crate::cli::{CliError, CliResult};
+    use crate::compare::diff_image::diff_image;
     use crate::compare::{
-        Agreement, AgreementOptions, Kernel, RaySet, primary_rays, random_rays, trace_rays,
+        Agreement, AgreementOptions, Kernel, RaySet, classify_rays, primary_rays, random_rays, trace_rays,
     };
     use crate::embree::{EmbreeScene, flush_denormals};
-    use crate::ray::Ray;
+    use crate::environment::Environment;
+    use crate::picture::output::png_bytes;
     use crate::scene::Scene;
+
+    /// The disagreements of one ray set, counted per class.
+    #[derive(serde::Serialize)]
+    struct ClassCounts {
+        /// One engine hit, the other missed (both ways).
+        hit_miss: usize,
+        /// Different primitives at the same t, at a shared edge or vertex.
+        edge_tie: usize,
+        /// Different primitives at the same t, away from their edges.
+        coincident: usize,
+        /// Different primitives at different t.
+        different_primitive: usize,
+        /// The same primitive, t beyond `max_ulps`.
+        t_beyond_ulps: usize,
+    }
+
+    impl From<&Agreement> for ClassCounts {
+        fn from(g: &Agreement) -> Self {
+            Self {
+                hit_miss: g.only_a + g.only_b,
+                edge_tie: g.ties,
+                coincident: g.coincident,
+                different_primitive: g.different_primitive,
+                t_beyond_ulps: g.t_beyond_ulps,
+            }
+        }
+    }
 
     /// The comparison on one ray set, for the JSON report.
     #[derive(serde::Serialize)]
@@ -107,6 +147,7 @@ mod with_embree {
         hit_agreement: f64,
         primitive_agreement: f64,
         primitive_agreement_with_ties: f64,
+        classes: ClassCounts,
         agreement: Agreement,
     }
 
@@ -114,6 +155,22 @@ mod with_embree {
     pub fn run(args: CheckArgs) -> CliResult {
         // Both engines run with FTZ/DAZ, as Embree wants, on every worker thread.
         rayon::broadcast(|_| flush_denormals());
+        // The diff image: primary rays only, a .png, claimed before any work.
+        let diff_file = match &args.diff_image {
+            None => None,
+            Some(_) if args.rays == RayChoice::Random => {
+                return Err(CliError::BadInput(anyhow!(
+                    "--diff-image draws the primary rays: use --rays primary or both"
+                )));
+            }
+            Some(path) if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) => {
+                return Err(CliError::BadInput(anyhow!(
+                    "cannot write {}: the diff image must be a .png file",
+                    path.display()
+                )));
+            }
+            Some(path) => Some(AtomicFile::create(path)?),
+        };
         let (scene, _) = load_scene(&args.scene)?;
         let embree = embree_scene(&scene, &args.embree_config, args.embree_mode)?;
         let raypack = args.accel.build(&scene.primitives);
@@ -131,28 +188,63 @@ mod with_embree {
         }
         let options = AgreementOptions {
             keep: args.show,
+            max_ulps: args.max_ulps,
             ..Default::default()
         };
-        let reports: Vec<SetReport> = sets
-            .into_iter()
-            .map(|(set, rays)| {
-                let agreement = compare(&raypack, &embree, &rays, args.kernel, options);
-                SetReport {
-                    rays: set,
-                    count: rays.len(),
-                    hit_agreement: agreement.hit_agreement(),
-                    primitive_agreement: agreement.primitive_agreement(),
-                    primitive_agreement_with_ties: agreement.primitive_agreement_with_ties(),
-                    agreement,
-                }
-            })
-            .collect();
+        let mut picture = None;
+        let mut reports = Vec::new();
+        for (set, rays) in sets {
+            // Both engines on the same rays, raypack as engine A; then each ray classified.
+            let hits_a = trace_rays(&raypack, &rays, args.kernel);
+            let hits_b = trace_rays(&embree, &rays, args.kernel);
+            let classes = classify_rays(&scene.primitives, &rays, &hits_a, &hits_b, &options);
+            let agreement = Agreement::from_classes(&rays, &hits_a, &hits_b, &classes, options.keep);
+            if set == RaySet::Primary && diff_file.is_some() {
+                let caption = vec![
+                    format!("{} ({} primitives)", scene.source, scene.primitives.len()),
+                    format!(
+                        "raypack {} {:?}  vs  Embree {} {:?}",
+                        args.accel.name(),
+                        args.kernel,
+                        embree.device().version_string(),
+                        args.embree_mode
+                    ),
+                    format!(
+                        "{width}x{height} primary rays  {} disagree",
+                        rays.len() - agreement.both_miss - agreement.same_primitive + agreement.t_beyond_ulps
+                    ),
+                ];
+                picture = Some(diff_image(
+                    &scene,
+                    &camera,
+                    &hits_a,
+                    &classes,
+                    caption,
+                    ("raypack", "embree"),
+                    args.max_ulps,
+                ));
+            }
+            reports.push(SetReport {
+                rays: set,
+                count: rays.len(),
+                hit_agreement: agreement.hit_agreement(),
+                primitive_agreement: agreement.primitive_agreement(),
+                primitive_agreement_with_ties: agreement.primitive_agreement_with_ties(),
+                classes: ClassCounts::from(&agreement),
+                agreement,
+            });
+        }
+        if let (Some(file), Some(img)) = (diff_file, picture) {
+            file.commit(&png_bytes(&img))?;
+        }
 
         if args.json {
             let json = serde_json::json!({
                 "scene": scene.source,
                 "primitives": scene.primitives.len(),
                 "kernel": args.kernel,
+                "max_ulps": args.max_ulps,
+                "environment": Environment::collect().with_embree(embree.device().as_ref().into()),
                 "embree": {
                     "version": embree.device().version_string(),
                     "config": embree.device().config(),
@@ -188,19 +280,6 @@ mod with_embree {
                 failing.join(" and ")
             )))
         }
-    }
-
-    /// Trace `rays` through both engines and compare, raypack as engine A.
-    fn compare<A: Accel, B: Accel>(
-        a: &A,
-        b: &B,
-        rays: &[Ray],
-        kernel: Kernel,
-        options: AgreementOptions,
-    ) -> Agreement {
-        let hits_a = trace_rays(a, rays, kernel);
-        let hits_b = trace_rays(b, rays, kernel);
-        Agreement::compare(rays, &hits_a, &hits_b, options)
     }
 
     fn print_report(
@@ -259,12 +338,17 @@ mod with_embree {
                 g.only_b
             );
             println!(
-                "  same primitive        {:>10.6}%   ({:.6}% counting {} ties on shared edges/vertices)",
+                "  same primitive        {:>10.6}%   ({:.6}% counting {} ties on shared edges/vertices and {} coincident surfaces)",
                 100.0 * r.primitive_agreement,
                 100.0 * r.primitive_agreement_with_ties,
-                g.ties
+                g.ties,
+                g.coincident
             );
-            println!("  different primitive   {:>10}", g.different_primitive);
+            let c = &r.classes;
+            println!(
+                "  disagreements         hit/miss {}, different primitive {}, same primitive t > {} ulps {}, edge/vertex ties {}, coincident {}",
+                c.hit_miss, c.different_primitive, args.max_ulps, c.t_beyond_ulps, c.edge_tie, c.coincident
+            );
             println!(
                 "  relative t error      p50 {:.2e}  p99 {:.2e}  max {:.2e}  (over {} same-primitive hits)",
                 g.t_error.p50, g.t_error.p99, g.t_error.max, g.same_primitive

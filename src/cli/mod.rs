@@ -3,6 +3,7 @@
 pub mod args;
 mod bench;
 mod check;
+mod env;
 mod r#gen;
 mod info;
 pub mod render;
@@ -31,6 +32,8 @@ pub enum Command {
     /// Generate a scene (SPD sphereflake, tetra, fractal mountain; random spheres,
     /// random triangles, terrain) as NFF.
     Gen(r#gen::GenArgs),
+    /// Describe the machine and the build: CPU, ISA, huge pages, rustc, flags, commit, Embree.
+    Env(env::Args),
     /// Describe a scene file: primitive counts, bounds, camera, lights, materials.
     Info(info::Args),
     /// Compare raypack with Embree ray by ray (needs the `embree` feature).
@@ -56,6 +59,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Bench(cmd) => bench::run(cmd),
         Command::Gen(args) => r#gen::run(args),
+        Command::Env(args) => env::run(args),
         Command::Info(args) => info::run(args),
         Command::Check(args) => check::run(args),
         Command::Trace(args) => trace::run(args),

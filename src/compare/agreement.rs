@@ -1,17 +1,25 @@
 //! Hit-by-hit agreement of two engines on the same rays.
 //!
-//! Every ray falls in one class:
+//! Every ray falls in one class ([`classify`]):
 //!
 //! | class | meaning |
 //! | --- | --- |
 //! | both miss | agree |
-//! | same primitive | both hit the same primitive; its relative t error counts in the quantiles |
-//! | tie | both hit, different primitives, t equal within the tolerance: a ray through an edge or vertex shared by two primitives, or through a point where two surfaces cross or coincide; each engine may pick either one |
+//! | same primitive | both hit the same primitive with t within `max_ulps` ulps: agree; its relative t error counts in the quantiles |
+//! | t beyond ulps | both hit the same primitive, t more than `max_ulps` ulps apart (still a same-primitive hit in the agreement fractions and the t error quantiles) |
+//! | tie | both hit, different primitives, t equal within `tie_tolerance`, and a hit point within `edge_tolerance` of an edge or vertex of either primitive: a ray through an edge or vertex two primitives share; each engine may pick either one |
+//! | coincident | both hit, different primitives, t equal within `tie_tolerance`, away from their edges: surfaces that cross or coincide there (or shapes without edges: spheres, planes, cones); either pick is right |
 //! | different primitive | both hit, different primitives at different t: a real disagreement |
 //! | hit / miss | one engine hits, the other misses: a real disagreement (near silhouettes, usually) |
 //!
-//! The relative t error of a ray is `|t_a − t_b| / |t_a|`.
+//! The relative t error of a ray is `|t_a − t_b| / |t_a|`. The edge tolerance
+//! is relative to the size of the hit point's coordinates and of the distance
+//! travelled, `edge_tolerance · max(|p|∞, t·|d|)`: the scale of the rounding
+//! error of `p = o + t·d`.
 
+use glam::Vec3;
+
+use crate::geometry::Primitive;
 use crate::ray::{Hit, Ray};
 
 /// Settings of a comparison.
@@ -19,6 +27,11 @@ use crate::ray::{Hit, Ray};
 pub struct AgreementOptions {
     /// Relative t difference below which two hits on different primitives are a tie.
     pub tie_tolerance: f32,
+    /// Distance of a hit point from an edge, relative to its scale (see the
+    /// module docs), within which a tie is a shared-edge tie.
+    pub edge_tolerance: f32,
+    /// Ulps of t beyond which two hits on the same primitive are counted apart.
+    pub max_ulps: u32,
     /// How many disagreeing rays to keep for the report.
     pub keep: usize,
 }
@@ -27,23 +40,130 @@ impl Default for AgreementOptions {
     fn default() -> Self {
         Self {
             tie_tolerance: 1e-4,
+            edge_tolerance: 1e-5,
+            max_ulps: 16,
             keep: 10,
         }
     }
 }
 
 /// The class of a disagreeing ray.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DisagreementKind {
     /// Engine A hit, engine B missed.
     OnlyA,
     /// Engine B hit, engine A missed.
     OnlyB,
-    /// Different primitives at the same t (shared edge or vertex).
+    /// Different primitives at the same t, at an edge or vertex of one of them.
     Tie,
+    /// Different primitives at the same t, away from their edges.
+    Coincident,
     /// Different primitives at different t.
     DifferentPrimitive,
+    /// The same primitive, t more than `max_ulps` ulps apart.
+    TBeyondUlps,
+}
+
+/// The class of one ray ([`classify`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayClass {
+    /// Both engines missed.
+    BothMiss,
+    /// Both hit the same primitive with t within `max_ulps` ulps.
+    SamePrimitive,
+    /// Anything else.
+    Disagree(DisagreementKind),
+}
+
+/// The distance between two finite floats in units in the last place (0 for
+/// +0 and −0; the count of representable floats between them otherwise).
+pub fn ulps_apart(a: f32, b: f32) -> u32 {
+    // Map the bit patterns onto a line: negative floats below the positive ones.
+    let ordered = |x: f32| {
+        let bits = x.to_bits();
+        let magnitude = i64::from(bits & 0x7fff_ffff);
+        if bits >> 31 == 1 { -magnitude } else { magnitude }
+    };
+    // At most 2·(2³¹ − 1), which fits.
+    (ordered(a) - ordered(b)).unsigned_abs() as u32
+}
+
+/// The edges of a primitive in world space, as segments: a triangle's three, a
+/// polygon's outline, a transformed one's mapped through its matrix. Spheres,
+/// planes and cones have none (a cone's rims are circles, not counted).
+fn edges(prim: &Primitive) -> Vec<(Vec3, Vec3)> {
+    let outline = |v: &[Vec3]| (0..v.len()).map(|i| (v[i], v[(i + 1) % v.len()])).collect();
+    match prim {
+        Primitive::Triangle(t) => outline(&t.vertices()),
+        Primitive::Polygon(p) => outline(p.vertices()),
+        Primitive::Transformed(t) => {
+            let m = t.matrix();
+            edges(t.object())
+                .into_iter()
+                .map(|(a, b)| (m.transform_point3(a), m.transform_point3(b)))
+                .collect()
+        }
+        Primitive::Sphere(_) | Primitive::Plane(_) | Primitive::Cone(_) => Vec::new(),
+    }
+}
+
+/// Distance from `p` to the segment `[a, b]`.
+fn segment_distance(p: Vec3, (a, b): (Vec3, Vec3)) -> f32 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let s = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    p.distance(a + s * ab)
+}
+
+/// The class of `ray` from the two engines' hits `a` and `b` on `prims`.
+pub fn classify(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit, options: &AgreementOptions) -> RayClass {
+    use DisagreementKind::*;
+    let kind = match (a.is_hit(), b.is_hit()) {
+        (false, false) => return RayClass::BothMiss,
+        (true, false) => OnlyA,
+        (false, true) => OnlyB,
+        (true, true) if a.prim == b.prim => {
+            if ulps_apart(a.t, b.t) <= options.max_ulps {
+                return RayClass::SamePrimitive;
+            }
+            TBeyondUlps
+        }
+        (true, true) if (a.t - b.t).abs() <= options.tie_tolerance * a.t.abs() => {
+            // Step 1: the same t; step 2: is either hit point at an edge of either primitive?
+            let at_edge = [a.t, b.t].iter().any(|&t| {
+                let p = ray.at(t);
+                let tolerance = options.edge_tolerance * p.abs().max_element().max(t * ray.dir.length());
+                [a.prim, b.prim]
+                    .iter()
+                    .filter_map(|&i| prims.get(i as usize))
+                    .flat_map(edges)
+                    .any(|e| segment_distance(p, e) <= tolerance)
+            });
+            if at_edge { Tie } else { Coincident }
+        }
+        (true, true) => DifferentPrimitive,
+    };
+    RayClass::Disagree(kind)
+}
+
+/// The class of every ray (see [`classify`]).
+pub fn classify_rays(
+    prims: &[Primitive],
+    rays: &[Ray],
+    a: &[Hit],
+    b: &[Hit],
+    options: &AgreementOptions,
+) -> Vec<RayClass> {
+    assert!(a.len() == rays.len() && b.len() == rays.len(), "one hit per ray");
+    rays.iter()
+        .zip(a.iter().zip(b))
+        .map(|(ray, (ha, hb))| classify(prims, ray, ha, hb, options))
+        .collect()
 }
 
 /// One ray on which the engines disagree, with enough to trace it again.
@@ -101,17 +221,21 @@ pub struct Agreement {
     pub both_miss: usize,
     /// Both hit the same primitive.
     pub same_primitive: usize,
-    /// Both hit, different primitives at the same t.
+    /// Both hit, different primitives at the same t, at a shared edge or vertex.
     pub ties: usize,
+    /// Both hit, different primitives at the same t, away from their edges.
+    pub coincident: usize,
     /// Both hit, different primitives at different t.
     pub different_primitive: usize,
     /// A hit, B missed.
     pub only_a: usize,
     /// B hit, A missed.
     pub only_b: usize,
+    /// Same-primitive hits (counted in `same_primitive`) with t more than `max_ulps` apart.
+    pub t_beyond_ulps: usize,
     /// Relative t error over the same-primitive hits.
     pub t_error: Quantiles,
-    /// The first disagreeing rays (ties included), in ray order.
+    /// The first disagreeing rays (ties and t beyond ulps included), in ray order.
     pub disagreements: Vec<Disagreement>,
 }
 
@@ -124,43 +248,58 @@ fn record(hit: &Hit) -> (f32, i64) {
 }
 
 impl Agreement {
-    /// Compare hits `a` and `b` of the same `rays`.
-    pub fn compare(rays: &[Ray], a: &[Hit], b: &[Hit], options: AgreementOptions) -> Self {
-        assert!(a.len() == rays.len() && b.len() == rays.len(), "one hit per ray");
+    /// Compare hits `a` and `b` of the same `rays` on `prims`.
+    pub fn compare(
+        prims: &[Primitive],
+        rays: &[Ray],
+        a: &[Hit],
+        b: &[Hit],
+        options: AgreementOptions,
+    ) -> Self {
+        let classes = classify_rays(prims, rays, a, b, &options);
+        Self::from_classes(rays, a, b, &classes, options.keep)
+    }
+
+    /// The counts of rays already classified ([`classify_rays`]), keeping the
+    /// first `keep` disagreements.
+    pub fn from_classes(rays: &[Ray], a: &[Hit], b: &[Hit], classes: &[RayClass], keep: usize) -> Self {
+        assert!(
+            a.len() == rays.len() && b.len() == rays.len() && classes.len() == rays.len(),
+            "one hit and one class per ray"
+        );
         let mut out = Self {
             rays: rays.len(),
             ..Self::default()
         };
         let mut errors = Vec::new();
-        for (index, ((ray, ha), hb)) in rays.iter().zip(a).zip(b).enumerate() {
-            let kind = match (ha.is_hit(), hb.is_hit()) {
-                (false, false) => {
+        for (index, (((ray, ha), hb), class)) in rays.iter().zip(a).zip(b).zip(classes).enumerate() {
+            let kind = match *class {
+                RayClass::BothMiss => {
                     out.both_miss += 1;
                     continue;
                 }
-                (true, true) if ha.prim == hb.prim => {
+                RayClass::SamePrimitive => {
                     out.same_primitive += 1;
                     errors.push(((ha.t - hb.t).abs() / ha.t.abs()) as f64);
                     continue;
                 }
-                (true, true) if (ha.t - hb.t).abs() <= options.tie_tolerance * ha.t.abs() => {
-                    out.ties += 1;
-                    DisagreementKind::Tie
-                }
-                (true, true) => {
-                    out.different_primitive += 1;
-                    DisagreementKind::DifferentPrimitive
-                }
-                (true, false) => {
-                    out.only_a += 1;
-                    DisagreementKind::OnlyA
-                }
-                (false, true) => {
-                    out.only_b += 1;
-                    DisagreementKind::OnlyB
+                RayClass::Disagree(kind) => {
+                    match kind {
+                        DisagreementKind::TBeyondUlps => {
+                            out.same_primitive += 1;
+                            out.t_beyond_ulps += 1;
+                            errors.push(((ha.t - hb.t).abs() / ha.t.abs()) as f64);
+                        }
+                        DisagreementKind::OnlyA => out.only_a += 1,
+                        DisagreementKind::OnlyB => out.only_b += 1,
+                        DisagreementKind::Tie => out.ties += 1,
+                        DisagreementKind::Coincident => out.coincident += 1,
+                        DisagreementKind::DifferentPrimitive => out.different_primitive += 1,
+                    }
+                    kind
                 }
             };
-            if out.disagreements.len() < options.keep {
+            if out.disagreements.len() < keep {
                 out.disagreements.push(Disagreement {
                     index,
                     kind,
@@ -186,9 +325,10 @@ impl Agreement {
         self.fraction(self.both_miss + self.same_primitive)
     }
 
-    /// As [`Agreement::primitive_agreement`], counting ties (shared edges) as agreeing.
+    /// As [`Agreement::primitive_agreement`], counting ties (shared edges) and
+    /// coincident surfaces as agreeing.
     pub fn primitive_agreement_with_ties(&self) -> f64 {
-        self.fraction(self.both_miss + self.same_primitive + self.ties)
+        self.fraction(self.both_miss + self.same_primitive + self.ties + self.coincident)
     }
 
     fn fraction(&self, n: usize) -> f64 {
@@ -234,6 +374,7 @@ mod tests {
             hit(&rays[5], 1.0, 0),
         ];
         let g = Agreement::compare(
+            &[],
             &rays,
             &a,
             &b,
@@ -246,7 +387,7 @@ mod tests {
             (
                 g.both_miss,
                 g.same_primitive,
-                g.ties,
+                g.coincident,
                 g.different_primitive,
                 g.only_a,
                 g.only_b
@@ -261,7 +402,7 @@ mod tests {
         assert_eq!(
             kinds,
             vec![
-                (2, DisagreementKind::Tie),
+                (2, DisagreementKind::Coincident),
                 (3, DisagreementKind::DifferentPrimitive),
                 (4, DisagreementKind::OnlyA)
             ]
@@ -276,5 +417,128 @@ mod tests {
         assert_eq!((q.p50, q.p99, q.max), (100.0, 198.0, 200.0));
         assert_eq!(Quantiles::of(vec![]), Quantiles::default());
         assert_eq!(Quantiles::of(vec![5.0]).p99, 5.0);
+    }
+
+    /// Two triangles sharing the edge x = 0, y ∈ [−1, 1] in the plane z = 0.
+    fn two_triangles() -> Vec<Primitive> {
+        use crate::geometry::Triangle;
+        vec![
+            Primitive::Triangle(Triangle::new(
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(0.0, -1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            )),
+            Primitive::Triangle(Triangle::new(
+                Vec3::new(0.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            )),
+        ]
+    }
+
+    /// The class of a ray straight down at `(x, y)` from z = 5, with hits
+    /// `(t, prim)` (None: a miss).
+    fn class_at(
+        prims: &[Primitive],
+        x: f32,
+        y: f32,
+        a: Option<(f32, u32)>,
+        b: Option<(f32, u32)>,
+    ) -> RayClass {
+        let ray = Ray::unbounded(Vec3::new(x, y, 5.0), Vec3::NEG_Z);
+        let record = |h: Option<(f32, u32)>| h.map_or(Hit::none(&ray), |(t, p)| hit(&ray, t, p));
+        classify(prims, &ray, &record(a), &record(b), &AgreementOptions::default())
+    }
+
+    #[test]
+    fn the_classifier_on_hand_made_pairs() {
+        use DisagreementKind::*;
+        let prims = two_triangles();
+        let class = |x, y, a, b| class_at(&prims, x, y, a, b);
+        let d = RayClass::Disagree;
+        // On the shared edge, and at a shared vertex: a tie.
+        assert_eq!(class(0.0, 0.3, Some((5.0, 0)), Some((5.0, 1))), d(Tie));
+        assert_eq!(class(0.0, 1.0, Some((5.0, 1)), Some((5.0, 0))), d(Tie));
+        // Within the edge tolerance (1e-5 of the scale 5), and just beyond it.
+        assert_eq!(class(2e-5, 0.3, Some((5.0, 0)), Some((5.0, 1))), d(Tie));
+        assert_eq!(class(1e-4, 0.3, Some((5.0, 0)), Some((5.0, 1))), d(Coincident));
+        // Equal t inside a triangle, far from every edge: coincident surfaces.
+        assert_eq!(class(-0.5, -0.5, Some((5.0, 0)), Some((5.0, 1))), d(Coincident));
+        // Different t: a real disagreement, even at the edge.
+        assert_eq!(
+            class(0.0, 0.3, Some((5.0, 0)), Some((7.0, 1))),
+            d(DifferentPrimitive)
+        );
+        // Hit/miss flips, both ways.
+        assert_eq!(class(0.0, 0.3, Some((5.0, 0)), None), d(OnlyA));
+        assert_eq!(class(0.0, 0.3, None, Some((5.0, 0))), d(OnlyB));
+        assert_eq!(class(0.0, 0.3, None, None), RayClass::BothMiss);
+        // The same primitive: within 16 ulps agrees, beyond does not.
+        let ulps = |n: u32| f32::from_bits(5f32.to_bits() + n);
+        assert_eq!(
+            class(0.5, 0.0, Some((5.0, 1)), Some((ulps(16), 1))),
+            RayClass::SamePrimitive
+        );
+        assert_eq!(
+            class(0.5, 0.0, Some((5.0, 1)), Some((ulps(17), 1))),
+            d(TBeyondUlps)
+        );
+        // A primitive index out of range has no edges (no panic).
+        assert_eq!(class(0.0, 0.3, Some((5.0, 7)), Some((5.0, 9))), d(Coincident));
+    }
+
+    #[test]
+    fn transformed_edges_are_in_world_space() {
+        use crate::geometry::Transformed;
+        let moved: Vec<Primitive> = two_triangles()
+            .into_iter()
+            .map(|p| {
+                let t = Transformed::new(p, glam::Mat4::from_translation(Vec3::new(10.0, 0.0, 0.0))).unwrap();
+                Primitive::Transformed(Box::new(t))
+            })
+            .collect();
+        let both = (Some((5.0, 0)), Some((5.0, 1)));
+        assert_eq!(
+            class_at(&moved, 10.0, 0.3, both.0, both.1),
+            RayClass::Disagree(DisagreementKind::Tie)
+        );
+        assert_eq!(
+            class_at(&moved, 0.0, 0.3, both.0, both.1),
+            RayClass::Disagree(DisagreementKind::Coincident)
+        );
+    }
+
+    #[test]
+    fn ulps_count_representable_floats() {
+        assert_eq!(ulps_apart(1.0, 1.0), 0);
+        assert_eq!(ulps_apart(0.0, -0.0), 0);
+        assert_eq!(ulps_apart(1.0, f32::from_bits(1f32.to_bits() + 3)), 3);
+        let tiny = f32::from_bits(1);
+        assert_eq!(ulps_apart(tiny, -tiny), 2);
+        assert_eq!(ulps_apart(f32::MAX, -f32::MAX), 2 * 0x7f7f_ffff);
+    }
+
+    #[test]
+    fn counts_and_kept_disagreements_follow_the_classes() {
+        let prims = two_triangles();
+        let rays: Vec<Ray> = [(0.0, 0.3), (0.5, 0.0), (-0.5, -0.5)]
+            .iter()
+            .map(|&(x, y)| Ray::unbounded(Vec3::new(x, y, 5.0), Vec3::NEG_Z))
+            .collect();
+        let a = vec![
+            hit(&rays[0], 5.0, 0),
+            hit(&rays[1], 5.0, 1),
+            hit(&rays[2], 5.0, 0),
+        ];
+        let b = vec![
+            hit(&rays[0], 5.0, 1),
+            hit(&rays[1], 5.001, 1),
+            hit(&rays[2], 5.0, 0),
+        ];
+        let g = Agreement::compare(&prims, &rays, &a, &b, AgreementOptions::default());
+        assert_eq!((g.ties, g.same_primitive, g.t_beyond_ulps), (1, 2, 1));
+        let kinds: Vec<_> = g.disagreements.iter().map(|d| d.kind).collect();
+        assert_eq!(kinds, [DisagreementKind::Tie, DisagreementKind::TBeyondUlps]);
+        assert_eq!(g.primitive_agreement_with_ties(), 1.0);
     }
 }

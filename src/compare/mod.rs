@@ -1,13 +1,17 @@
 //! Comparing engines ray by ray: the rays ([`ray_sets`]), tracing them through
 //! any [`Accel`](crate::accel::Accel) ([`batch`]), the CSV exchange format that
-//! lets any other engine take part ([`csv`]), and the agreement statistics of
-//! two engines' hits ([`agreement`]).
+//! lets any other engine take part ([`csv`]), the agreement statistics of
+//! two engines' hits, ray by ray classified ([`agreement`]), and the picture of
+//! where they disagree ([`diff_image`]).
 
 pub mod agreement;
 pub mod batch;
 pub mod csv;
+pub mod diff_image;
 pub mod ray_sets;
 
-pub use agreement::{Agreement, AgreementOptions, Disagreement, DisagreementKind};
+pub use agreement::{
+    Agreement, AgreementOptions, Disagreement, DisagreementKind, RayClass, classify, classify_rays,
+};
 pub use batch::{Kernel, trace_rays};
 pub use ray_sets::{RaySet, primary_rays, primary_rays_in_blocks, random_rays};

@@ -164,6 +164,16 @@ impl Drop for Device {
     }
 }
 
+/// The device as the environment of a result records it.
+impl From<&Device> for crate::environment::EmbreeInfo {
+    fn from(device: &Device) -> Self {
+        Self {
+            version: device.version_string(),
+            config: device.config().to_string(),
+        }
+    }
+}
+
 impl std::fmt::Debug for Device {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Device")

@@ -1,0 +1,294 @@
+//! The machine and the build a measurement ran on, for every result that
+//! carries figures: a figure without its machine is not a result.
+//!
+//! The CPU comes from `/proc/cpuinfo`, the transparent-huge-page mode from
+//! `/sys/kernel/mm/transparent_hugepage/enabled`; the compiler, the profile, the
+//! flags and the git commit are recorded by `build.rs` when raypack is built.
+//! Embree's version and device configuration are filled in by the caller that
+//! made an Embree device ([`Environment::with_embree`]), since this module sits
+//! below the Embree layer.
+
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use serde::{Deserialize, Serialize};
+
+/// The ISA extensions raypack's kernels care about, by `target_feature` name.
+pub const ISA_FEATURES: [&str; 5] = ["sse4.2", "avx", "avx2", "fma", "avx512f"];
+
+/// Embree's side of the environment.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EmbreeInfo {
+    /// The library's version, `major.minor.patch`.
+    pub version: String,
+    /// The device configuration string.
+    pub config: String,
+}
+
+/// The machine and the build.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Environment {
+    /// CPU model name ("unknown" without `/proc/cpuinfo`).
+    pub cpu_model: String,
+    /// Logical CPUs this process may run on.
+    pub threads: usize,
+    /// Physical cores (distinct `physical id`/`core id` pairs), if the kernel says.
+    pub physical_cores: Option<usize>,
+    /// ISA extensions of [`ISA_FEATURES`] the build compiled in (`target_feature`).
+    pub isa_build: Vec<String>,
+    /// ISA extensions of [`ISA_FEATURES`] the CPU has.
+    pub isa_cpu: Vec<String>,
+    /// Transparent huge pages: the selected mode (`always`, `madvise`, `never`) or "unavailable".
+    pub thp: String,
+    /// Target architecture and operating system.
+    pub target: String,
+    /// `rustc --version` of the build.
+    pub rustc: String,
+    /// Cargo profile (`debug` or `release`; benches and tests report their base profile).
+    pub profile: String,
+    /// `RUSTFLAGS` of the build, space-separated.
+    pub rustflags: String,
+    /// Cargo features enabled.
+    pub features: Vec<String>,
+    /// Git commit the build was made from, or "unknown".
+    pub git_commit: String,
+    /// Embree, when the build has it and a device was made.
+    pub embree: Option<EmbreeInfo>,
+    /// When this was collected: UTC, `YYYY-MM-DDTHH:MM:SSZ`.
+    pub date: String,
+}
+
+impl Environment {
+    /// The environment of this process now (without Embree).
+    pub fn collect() -> Self {
+        let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+        let thp = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled").ok();
+        let seconds = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs());
+        Self {
+            cpu_model: cpu_model(&cpuinfo).unwrap_or_else(|| "unknown".into()),
+            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            physical_cores: physical_cores(&cpuinfo),
+            isa_build: isa_build(),
+            isa_cpu: isa_cpu(),
+            thp: thp
+                .as_deref()
+                .and_then(thp_mode)
+                .unwrap_or("unavailable")
+                .to_string(),
+            target: format!("{}-{}", std::env::consts::ARCH, std::env::consts::OS),
+            rustc: env!("RAYPACK_BUILD_RUSTC").to_string(),
+            profile: env!("RAYPACK_BUILD_PROFILE").to_string(),
+            rustflags: env!("RAYPACK_BUILD_RUSTFLAGS").to_string(),
+            features: if cfg!(feature = "embree") {
+                vec!["embree".to_string()]
+            } else {
+                Vec::new()
+            },
+            git_commit: env!("RAYPACK_BUILD_COMMIT").to_string(),
+            embree: None,
+            date: utc_date(seconds),
+        }
+    }
+
+    /// The same, with Embree's version and device configuration.
+    pub fn with_embree(self, embree: EmbreeInfo) -> Self {
+        Self {
+            embree: Some(embree),
+            ..self
+        }
+    }
+
+    /// Name and value of each field, for a text table.
+    pub fn rows(&self) -> Vec<(&'static str, String)> {
+        let list = |v: &[String]| {
+            if v.is_empty() {
+                "none".to_string()
+            } else {
+                v.join(" ")
+            }
+        };
+        let mut rows = vec![
+            ("cpu", self.cpu_model.clone()),
+            ("threads", self.threads.to_string()),
+            (
+                "cores",
+                self.physical_cores.map_or("unknown".into(), |n| n.to_string()),
+            ),
+            ("isa (build)", list(&self.isa_build)),
+            ("isa (cpu)", list(&self.isa_cpu)),
+            ("thp", self.thp.clone()),
+            ("target", self.target.clone()),
+            ("rustc", self.rustc.clone()),
+            ("profile", self.profile.clone()),
+            (
+                "rustflags",
+                if self.rustflags.is_empty() {
+                    "none".into()
+                } else {
+                    self.rustflags.clone()
+                },
+            ),
+            ("features", list(&self.features)),
+            ("commit", self.git_commit.clone()),
+        ];
+        if let Some(e) = &self.embree {
+            rows.push(("embree", format!("{} \"{}\"", e.version, e.config)));
+        }
+        rows.push(("date", self.date.clone()));
+        rows
+    }
+}
+
+/// The first `model name` of `/proc/cpuinfo`.
+fn cpu_model(cpuinfo: &str) -> Option<String> {
+    cpuinfo.lines().find_map(|l| {
+        l.strip_prefix("model name")?
+            .split_once(':')
+            .map(|(_, v)| v.trim().to_string())
+    })
+}
+
+/// The number of distinct `(physical id, core id)` pairs of `/proc/cpuinfo`.
+fn physical_cores(cpuinfo: &str) -> Option<usize> {
+    let field = |block: &str, name: &str| {
+        block.lines().find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            (k.trim() == name).then(|| v.trim().to_string())
+        })
+    };
+    let cores: std::collections::BTreeSet<_> = cpuinfo
+        .split("\n\n")
+        .filter_map(|block| Some((field(block, "physical id")?, field(block, "core id")?)))
+        .collect();
+    (!cores.is_empty()).then_some(cores.len())
+}
+
+/// The bracketed mode of the THP `enabled` file: `always [madvise] never` → `madvise`.
+fn thp_mode(text: &str) -> Option<&str> {
+    let start = text.find('[')? + 1;
+    let end = start + text[start..].find(']')?;
+    Some(&text[start..end])
+}
+
+/// The extensions of [`ISA_FEATURES`] compiled in.
+fn isa_build() -> Vec<String> {
+    let on = [
+        cfg!(target_feature = "sse4.2"),
+        cfg!(target_feature = "avx"),
+        cfg!(target_feature = "avx2"),
+        cfg!(target_feature = "fma"),
+        cfg!(target_feature = "avx512f"),
+    ];
+    named(on)
+}
+
+/// The extensions of [`ISA_FEATURES`] the CPU has.
+#[cfg(target_arch = "x86_64")]
+fn isa_cpu() -> Vec<String> {
+    let on = [
+        is_x86_feature_detected!("sse4.2"),
+        is_x86_feature_detected!("avx"),
+        is_x86_feature_detected!("avx2"),
+        is_x86_feature_detected!("fma"),
+        is_x86_feature_detected!("avx512f"),
+    ];
+    named(on)
+}
+
+/// None of [`ISA_FEATURES`] exist off x86-64.
+#[cfg(not(target_arch = "x86_64"))]
+fn isa_cpu() -> Vec<String> {
+    Vec::new()
+}
+
+fn named(on: [bool; 5]) -> Vec<String> {
+    ISA_FEATURES
+        .iter()
+        .zip(on)
+        .filter(|(_, on)| *on)
+        .map(|(name, _)| name.to_string())
+        .collect()
+}
+
+/// `seconds` since the Unix epoch as UTC `YYYY-MM-DDTHH:MM:SSZ` (the civil
+/// calendar from a day count: H. Hinnant's `civil_from_days`).
+fn utc_date(seconds: u64) -> String {
+    let days = (seconds / 86_400) as i64;
+    let s = seconds % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097; // day of the era, [0, 146096]
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365; // [0, 399]
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100); // [0, 365], from 1 March
+    let mp = (5 * doy + 2) / 153; // month from March, [0, 11]
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        s / 3600,
+        s / 60 % 60,
+        s % 60
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CPUINFO: &str = "processor\t: 0\nmodel name\t: AMD EPYC 9B45\nphysical id\t: 0\ncore id\t\t: 0\n\n\
+processor\t: 1\nmodel name\t: AMD EPYC 9B45\nphysical id\t: 0\ncore id\t\t: 0\n\n\
+processor\t: 2\nmodel name\t: AMD EPYC 9B45\nphysical id\t: 0\ncore id\t\t: 1\n";
+
+    #[test]
+    fn reads_cpuinfo() {
+        assert_eq!(cpu_model(CPUINFO).as_deref(), Some("AMD EPYC 9B45"));
+        assert_eq!(physical_cores(CPUINFO), Some(2));
+        assert_eq!(cpu_model(""), None);
+        assert_eq!(physical_cores("processor : 0\n"), None);
+    }
+
+    #[test]
+    fn reads_the_thp_mode() {
+        assert_eq!(thp_mode("always [madvise] never\n"), Some("madvise"));
+        assert_eq!(thp_mode("[always] madvise never"), Some("always"));
+        assert_eq!(thp_mode("garbage"), None);
+    }
+
+    #[test]
+    fn formats_utc_dates() {
+        assert_eq!(utc_date(0), "1970-01-01T00:00:00Z");
+        assert_eq!(utc_date(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(utc_date(1_709_251_199), "2024-02-29T23:59:59Z");
+        assert_eq!(utc_date(4_102_444_800), "2100-01-01T00:00:00Z");
+    }
+
+    #[test]
+    fn collects_and_serialises() {
+        let env = Environment::collect().with_embree(EmbreeInfo {
+            version: "4.4.0".into(),
+            config: "threads=1".into(),
+        });
+        assert!(env.threads >= 1);
+        assert!(env.rustc.starts_with("rustc "), "{}", env.rustc);
+        // What the build compiled in, the CPU running it has.
+        assert!(env.isa_build.iter().all(|f| env.isa_cpu.contains(f)), "{env:?}");
+        let json = serde_json::to_value(&env).unwrap();
+        for key in [
+            "cpu_model",
+            "isa_build",
+            "isa_cpu",
+            "thp",
+            "rustc",
+            "profile",
+            "git_commit",
+            "date",
+        ] {
+            assert!(json.get(key).is_some(), "{key} missing from {json}");
+        }
+        assert_eq!(json["embree"]["version"], "4.4.0");
+        assert_eq!(serde_json::from_value::<Environment>(json).unwrap(), env);
+        assert_eq!(env.rows().last().unwrap().0, "date");
+    }
+}
