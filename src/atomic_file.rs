@@ -11,7 +11,7 @@
 //!
 //! A run stopped by a signal (SIGINT, SIGTERM, SIGHUP: Ctrl-C, `timeout`, a
 //! closed terminal) runs no destructors, so every temporary in flight is also
-//! listed in [`IN_FLIGHT`], and [`remove_temporaries_on_signals`] starts a
+//! listed in `IN_FLIGHT`, and [`remove_temporaries_on_signals`] starts a
 //! thread that removes them when such a signal arrives and then exits with
 //! `128 + signal`, as the shell reports a process killed by it. (SIGKILL
 //! cannot be caught; nothing can clean up after it.)
