@@ -137,3 +137,42 @@ fn mirror_glass_scene_has_mirrors_glass_and_lights_in_view() {
         assert!(seen.contains(&prim), "primitive {prim} is not in view");
     }
 }
+
+/// Inputs with which the fuzz targets (`fuzz/`, `scripts/fuzz.sh`) crashed or
+/// hung a reader, kept in `tests/data/fuzz/`: each now loads, or fails with a
+/// `file:line` error, at once. A new finding goes in this table.
+#[test]
+fn fuzz_findings_load_or_fail_cleanly() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
+    // File, and the primitives it loads (Ok) or what its error says (Err).
+    let findings: [(&str, Result<usize, &str>); 2] = [
+        // 4294967295 instances of a property-less element (zero bytes each) in
+        // a binary body: the reader looped over them (libFuzzer timeout).
+        ("ply_propertyless_element.ply", Ok(1)),
+        // The fuzzer's own input for it (709551615 instances, then garbage).
+        ("ply_timeout_propertyless_element.ply", Err("")),
+    ];
+    let mut listed: Vec<&str> = findings.iter().map(|(name, _)| *name).collect();
+    listed.sort();
+    let mut present: Vec<String> = std::fs::read_dir(&dir)
+        .expect("tests/data/fuzz exists")
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    present.sort();
+    assert_eq!(listed, present, "every file of tests/data/fuzz/ has a line here");
+    for (name, expected) in findings {
+        let path = dir.join(name);
+        match (scene::load(&path), expected) {
+            (Ok(s), Ok(n)) => assert_eq!(s.primitives.len(), n, "{name}"),
+            (Err(e), Err(needle)) => {
+                let shown = e.to_string();
+                assert!(shown.starts_with(&format!("{}", path.display())), "{shown}");
+                assert!(shown.contains(needle), "{name}: {shown}");
+            }
+            (got, want) => panic!(
+                "{name}: got {:?}, expected {want:?}",
+                got.map(|s| s.primitives.len())
+            ),
+        }
+    }
+}

@@ -226,18 +226,17 @@ transform = { translate = [0, 0, 3] }
     assert_eq!((hit.prim, hit.t), (1, 7.0));
 }
 
-#[test]
-fn includes_take_consecutive_indices_materials_and_transforms() {
-    let dir = Scratch::new("native-include");
-    dir.write(
+/// A TOML scene with includes (an NFF part, and a TOML file including it again).
+const INCLUDE_FILES: [(&str, &str); 3] = [
+    (
         "part.nff",
         "l 0 5 0 0.5 0.5 0.5\nf 0 1 0 1 0 0 0 1\npp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\ns 0 0 0 1\n",
-    );
-    dir.write(
+    ),
+    (
         "nested.toml",
         "[[objects]]\ntype = \"include\"\npath = \"part.nff\"\nkeep_lights = true\n",
-    );
-    let main = dir.write(
+    ),
+    (
         "main.toml",
         r#"
 [materials.blue]
@@ -266,7 +265,16 @@ base_radius = 1
 apex = [0, 1, 0]
 apex_radius = 1
 "#,
-    );
+    ),
+];
+
+#[test]
+fn includes_take_consecutive_indices_materials_and_transforms() {
+    let dir = Scratch::new("native-include");
+    for (name, text) in INCLUDE_FILES {
+        dir.write(name, text);
+    }
+    let main = dir.path().join("main.toml");
     let s = scene::load(&main).unwrap();
     use PrimitiveKind::*;
     let kinds: Vec<PrimitiveKind> = s.primitives.iter().map(Primitive::kind).collect();
@@ -291,6 +299,79 @@ apex_radius = 1
     assert_eq!(s.lights[0].position, Vec3::new(10.0, 5.0, 0.0));
     // Loading twice gives the same geometry, includes and all.
     assert_eq!(scene::load(&main).unwrap().primitives, s.primitives);
+}
+
+/// Includes read from memory give the scene read from disk, and touch no file.
+#[test]
+fn includes_from_memory_give_the_scene_from_disk() {
+    let dir = Scratch::new("native-include-memory");
+    let mut files = native::InMemory::new();
+    for (name, text) in INCLUDE_FILES {
+        dir.write(name, text);
+        files.insert(dir.path().join(name), text);
+    }
+    let disk = scene::load(&dir.path().join("main.toml")).unwrap();
+    // The same names, and names that are nowhere on disk.
+    for root in [dir.path(), Path::new("mem/scenes")] {
+        let mut files = files.clone();
+        for (name, text) in INCLUDE_FILES {
+            files.insert(root.join(name), text);
+        }
+        let memory = native::load_from(&root.join("./main.toml"), &files).unwrap();
+        assert_eq!(memory.primitives, disk.primitives);
+        assert_eq!(memory.material_of, disk.material_of);
+        assert_eq!(memory.materials, disk.materials);
+        assert_eq!(memory.lights, disk.lights);
+        assert_eq!(memory.vertex_normals, disk.vertex_normals);
+    }
+}
+
+/// In memory, cycles are found through `.` and `..`; a missing file is an
+/// error at the include; and nesting stops at the documented depth.
+#[test]
+fn includes_from_memory_refuse_cycles_missing_files_and_deep_chains() {
+    let include = |path: &str| format!("[[objects]]\ntype = \"include\"\npath = \"{path}\"\n");
+    let mut files = native::InMemory::new();
+    files.insert("a.toml", include("sub/b.toml"));
+    files.insert("sub/b.toml", include("../x/.././a.toml"));
+    files.insert("m.toml", include("gone.nff"));
+    let e = native::load_from(Path::new("a.toml"), &files).unwrap_err();
+    assert!(
+        e.message.contains("found a cycle through `../x/.././a.toml`"),
+        "{e}"
+    );
+    assert_eq!(
+        (e.path.as_path(), e.line),
+        (Path::new("sub/b.toml"), Some(3)),
+        "{e}"
+    );
+    let e = native::load_from(Path::new("m.toml"), &files).unwrap_err();
+    assert_eq!((e.path.as_path(), e.line), (Path::new("m.toml"), Some(3)), "{e}");
+    assert!(
+        e.message.contains("expected a readable scene file at `gone.nff`"),
+        "{e}"
+    );
+    let e = native::load_from(Path::new("none.toml"), &files).unwrap_err();
+    assert_eq!(e.to_string(), "none.toml: cannot read: no such file in memory");
+
+    // A chain d0 → d1 → … → dN, dN holding a sphere: N + 1 files deep.
+    let chain = |files_deep: usize| {
+        let mut files = native::InMemory::new();
+        for k in 0..files_deep - 1 {
+            files.insert(format!("d{k}.toml"), include(&format!("d{}.toml", k + 1)));
+        }
+        files.insert(format!("d{}.toml", files_deep - 1), SPHERE);
+        native::load_from(Path::new("d0.toml"), &files)
+    };
+    assert_eq!(chain(native::MAX_INCLUDE_DEPTH).unwrap().primitives.len(), 1);
+    let e = chain(native::MAX_INCLUDE_DEPTH + 1).unwrap_err();
+    assert!(
+        e.message.contains(&format!(
+            "expected includes nested at most {} deep",
+            native::MAX_INCLUDE_DEPTH
+        )),
+        "{e}"
+    );
 }
 
 /// Parse `text` expecting an error on `line` whose message contains `needle`.

@@ -22,17 +22,40 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>, SceneError> {
     std::fs::read(path).map_err(|e| SceneError::file(path, format!("cannot read the file: {e}")))
 }
 
+/// How much larger than its gzip data a scene may decompress: text meshes
+/// compress about 4:1, and deflate at most about 1032:1.
+pub const MAX_INFLATION: u64 = 64;
+
+/// Decompressed size allowed whatever the ratio: 256 MiB.
+pub const MIN_INFLATED_LIMIT: u64 = 256 << 20;
+
 /// `bytes` decompressed if they are gzip data (by magic number), else as they are.
-/// Concatenated gzip members are read as one stream, as `gzip -d` does.
+/// Concatenated gzip members are read as one stream, as `gzip -d` does. The
+/// output may be at most [`MAX_INFLATION`] times the input or
+/// [`MIN_INFLATED_LIMIT`], whichever is larger, so a small gzip bomb cannot
+/// take gigabytes; a file beyond that is refused with the limit named.
 pub fn gunzip_if_needed<'a>(path: &Path, bytes: &'a [u8]) -> Result<Cow<'a, [u8]>, SceneError> {
     if !bytes.starts_with(&GZIP_MAGIC) {
         return Ok(Cow::Borrowed(bytes));
     }
+    let limit = (bytes.len() as u64)
+        .saturating_mul(MAX_INFLATION)
+        .max(MIN_INFLATED_LIMIT);
     // Text meshes compress about 4:1; reserve that much to avoid regrowing.
     let mut out = Vec::with_capacity(bytes.len().saturating_mul(4));
     MultiGzDecoder::new(bytes)
+        .take(limit + 1)
         .read_to_end(&mut out)
         .map_err(|e| SceneError::file(path, format!("corrupt or truncated gzip data: {e}")))?;
+    if out.len() as u64 > limit {
+        return Err(SceneError::file(
+            path,
+            format!(
+                "the gzip data decompresses to more than {limit} bytes ({MAX_INFLATION} times its size, \
+                 at least {MIN_INFLATED_LIMIT}): decompress it yourself (gunzip) if it really is a scene"
+            ),
+        ));
+    }
     Ok(Cow::Owned(out))
 }
 
@@ -118,6 +141,30 @@ pub fn quote(token: &[u8]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_gzip_bomb_is_refused_with_its_limit() {
+        use std::io::Write;
+        // 300 MiB of zeros compress to about 300 KiB: over the 256 MiB floor.
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+        let zeros = vec![0u8; 1 << 20];
+        for _ in 0..300 {
+            gz.write_all(&zeros).unwrap();
+        }
+        let bomb = gz.finish().unwrap();
+        assert!(bomb.len() < 1 << 20, "{}", bomb.len());
+        let e = gunzip_if_needed(Path::new("bomb.ply.gz"), &bomb).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("decompresses to more than 268435456 bytes"),
+            "{e}"
+        );
+        // A small file decompresses as before.
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(b"ply\n").unwrap();
+        let small = gz.finish().unwrap();
+        assert_eq!(&*gunzip_if_needed(Path::new("s.gz"), &small).unwrap(), b"ply\n");
+    }
 
     #[test]
     fn quote_escapes_and_shortens() {

@@ -246,8 +246,17 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// Load a scene, choosing the reader by file extension.
-pub fn load(path: &Path) -> Result<Scene, SceneError> {
+/// The scene formats, as [`load`] tells them by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Nff,
+    Toml,
+    Obj,
+    Ply,
+}
+
+/// The format of the file at `path`, by extension (`.ply.gz` is PLY).
+fn format_of(path: &Path) -> Result<Format, SceneError> {
     let name = path.to_string_lossy().to_ascii_lowercase();
     let extension = match name.rsplit_once('.') {
         Some((stem, "gz")) if stem.ends_with(".ply") => "ply.gz",
@@ -255,15 +264,37 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         None => "",
     };
     match extension {
-        "nff" => nff::load(path),
-        "toml" => native::load(path),
-        "obj" => obj::load(path),
-        "ply" => ply::load(path),
-        "ply.gz" => ply::load(path),
+        "nff" => Ok(Format::Nff),
+        "toml" => Ok(Format::Toml),
+        "obj" => Ok(Format::Obj),
+        "ply" | "ply.gz" => Ok(Format::Ply),
         _ => Err(SceneError::file(
             path,
             "unknown scene format (expected .nff, .obj, .ply, .ply.gz or .toml)",
         )),
+    }
+}
+
+/// Load a scene, choosing the reader by file extension.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    match format_of(path)? {
+        Format::Nff => nff::load(path),
+        Format::Toml => native::load(path),
+        Format::Obj => obj::load(path),
+        Format::Ply => ply::load(path),
+    }
+}
+
+/// Parse a scene file already in memory, choosing the reader by the extension
+/// of `path` as [`load`] does; `path` names it in errors. A TOML file's
+/// includes are read from disk, relative to `path` (see
+/// [`native::load_from`] to take them from memory too).
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
+    match format_of(path)? {
+        Format::Nff => nff::parse(path, bytes),
+        Format::Toml => native::parse(path, native::utf8_text(path, bytes)?),
+        Format::Obj => obj::parse(path, bytes),
+        Format::Ply => ply::parse(path, bytes),
     }
 }
 

@@ -70,31 +70,155 @@ use toml::de::{DeTable, DeValue, ValueDeserializer};
 use crate::geometry::{Cone, GeometryError, Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
 use crate::scene::{CameraSpec, Light, Material, Scene, SceneError, geometry_message};
 
-/// Read the TOML scene at `path`, with its includes.
-pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    load_nested(path, &mut Vec::new())
+/// Deepest chain of TOML files including one another that [`load`] follows
+/// (the top file counts as depth 1). Real scenes nest two or three deep; the
+/// cap keeps a long generated chain from exhausting the stack. A constant:
+/// raise it here if a scene needs more.
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// Where a TOML scene's includes come from: [`FileSystem`] when a scene is
+/// loaded from disk, [`InMemory`] for scenes and their includes held in memory
+/// (tests and the fuzz targets, which must never touch the disk).
+pub trait SceneFiles {
+    /// The name that identifies `path` when looking for include cycles
+    /// (two names of one file must give the same identity).
+    fn identity(&self, path: &Path) -> PathBuf;
+    /// The bytes of the TOML file at `path`; an error without a line when it cannot be read.
+    fn read(&self, path: &Path) -> Result<Vec<u8>, SceneError>;
+    /// The scene in the non-TOML file at `path` (NFF, OBJ, PLY), read by extension.
+    fn load(&self, path: &Path) -> Result<Scene, SceneError>;
 }
 
-/// Read `path`; `stack` holds the TOML files that include it (to refuse cycles).
-fn load_nested(path: &Path, stack: &mut Vec<PathBuf>) -> Result<Scene, SceneError> {
-    let bytes = std::fs::read(path).map_err(|e| SceneError::file(path, format!("cannot read: {e}")))?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
-        let line = line_of(&bytes, e.valid_up_to());
-        SceneError::at(path, line, "expected UTF-8 text (TOML), found binary data")
-    })?;
-    let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
-    stack.push(canonical);
-    let result = parse_nested(path, text, stack);
-    stack.pop();
+/// Includes read from disk: identities are canonical paths (so symbolic links
+/// and `..` cannot hide a cycle).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FileSystem;
+
+impl SceneFiles for FileSystem {
+    fn identity(&self, path: &Path) -> PathBuf {
+        path.canonicalize().unwrap_or_else(|_| path.to_path_buf())
+    }
+
+    fn read(&self, path: &Path) -> Result<Vec<u8>, SceneError> {
+        std::fs::read(path).map_err(|e| SceneError::file(path, format!("cannot read: {e}")))
+    }
+
+    fn load(&self, path: &Path) -> Result<Scene, SceneError> {
+        crate::scene::load(path)
+    }
+}
+
+/// Files held in memory by path; paths are compared after lexical
+/// normalisation (`a/./b/../c` is `a/c`), and a path that is not held cannot
+/// be read. Nothing touches the disk.
+#[derive(Clone, Debug, Default)]
+pub struct InMemory {
+    files: HashMap<PathBuf, Vec<u8>>,
+}
+
+impl InMemory {
+    /// No files.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Hold `bytes` as the file at `path` (replacing any held there).
+    pub fn insert(&mut self, path: impl AsRef<Path>, bytes: impl Into<Vec<u8>>) {
+        self.files.insert(normalize(path.as_ref()), bytes.into());
+    }
+
+    fn get(&self, path: &Path) -> Result<&[u8], SceneError> {
+        self.files
+            .get(&normalize(path))
+            .map(Vec::as_slice)
+            .ok_or_else(|| SceneError::file(path, "cannot read: no such file in memory"))
+    }
+}
+
+impl SceneFiles for InMemory {
+    fn identity(&self, path: &Path) -> PathBuf {
+        normalize(path)
+    }
+
+    fn read(&self, path: &Path) -> Result<Vec<u8>, SceneError> {
+        self.get(path).map(<[u8]>::to_vec)
+    }
+
+    fn load(&self, path: &Path) -> Result<Scene, SceneError> {
+        crate::scene::parse(path, self.get(path)?)
+    }
+}
+
+/// `path` without `.` components, each `..` cancelling the name before it.
+fn normalize(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.components().next_back(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// Read the TOML scene at `path`, with its includes.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_from(path, &FileSystem)
+}
+
+/// Read the TOML scene at `path`, taking it and its includes from `files`.
+pub fn load_from(path: &Path, files: &dyn SceneFiles) -> Result<Scene, SceneError> {
+    load_nested(
+        path,
+        &mut Nesting {
+            files,
+            stack: Vec::new(),
+        },
+    )
+}
+
+/// Where includes come from, and the TOML files that include the one being read (to refuse cycles).
+struct Nesting<'a> {
+    files: &'a dyn SceneFiles,
+    stack: Vec<PathBuf>,
+}
+
+/// Read `path` through `nesting.files`.
+fn load_nested(path: &Path, nesting: &mut Nesting) -> Result<Scene, SceneError> {
+    let bytes = nesting.files.read(path)?;
+    let text = utf8_text(path, &bytes)?;
+    nesting.stack.push(nesting.files.identity(path));
+    let result = parse_nested(path, text, nesting);
+    nesting.stack.pop();
     result
 }
 
-/// Parse TOML scene text; `path` names the file in errors and locates includes.
-pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
-    parse_nested(path, text, &mut Vec::new())
+/// `bytes` as text, or an error at the line of the first byte that is not UTF-8.
+pub fn utf8_text<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a str, SceneError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let line = line_of(bytes, e.valid_up_to());
+        SceneError::at(path, line, "expected UTF-8 text (TOML), found binary data")
+    })
 }
 
-fn parse_nested(path: &Path, text: &str, stack: &mut Vec<PathBuf>) -> Result<Scene, SceneError> {
+/// Parse TOML scene text; `path` names the file in errors and locates includes
+/// (read from disk).
+pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+    parse_nested(
+        path,
+        text,
+        &mut Nesting {
+            files: &FileSystem,
+            stack: Vec::new(),
+        },
+    )
+}
+
+fn parse_nested(path: &Path, text: &str, nesting: &mut Nesting) -> Result<Scene, SceneError> {
     let mut reader = Reader {
         path,
         text,
@@ -121,7 +245,7 @@ fn parse_nested(path: &Path, text: &str, stack: &mut Vec<PathBuf>) -> Result<Sce
             ));
         };
         for object in objects.iter().cloned() {
-            reader.object(object, stack)?;
+            reader.object(object, nesting)?;
         }
     }
     if reader.scene.primitives.is_empty() {
@@ -411,7 +535,7 @@ impl Reader<'_> {
     }
 
     /// One `[[objects]]` entry.
-    fn object(&mut self, value: Spanned<DeValue>, stack: &mut Vec<PathBuf>) -> Result<(), SceneError> {
+    fn object(&mut self, value: Spanned<DeValue>, nesting: &mut Nesting) -> Result<(), SceneError> {
         let span = value.span();
         let DeValue::Table(mut table) = value.into_inner() else {
             return Err(self.error(span, "expected each object to be a table, found another value"));
@@ -517,7 +641,7 @@ impl Reader<'_> {
             "include" => {
                 let include: IncludeToml = self.deserialize(fields)?;
                 let material = material.map(|m| self.material(Some(m))).transpose()?;
-                return self.include(include, material, transform, stack);
+                return self.include(include, material, transform, nesting);
             }
             other => {
                 return Err(self.error(
@@ -538,17 +662,25 @@ impl Reader<'_> {
         include: IncludeToml,
         material: Option<u32>,
         transform: Option<Mat4>,
-        stack: &mut Vec<PathBuf>,
+        nesting: &mut Nesting,
     ) -> Result<(), SceneError> {
         let span = include.path.span();
         let relative = include.path.into_inner();
         let path = self.path.parent().unwrap_or(Path::new("")).join(&relative);
-        let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
-        if stack.contains(&canonical) {
+        if nesting.stack.contains(&nesting.files.identity(&path)) {
             return Err(self.error(
                 span,
                 format!(
                     "expected an include that does not include itself, found a cycle through `{relative}`"
+                ),
+            ));
+        }
+        if nesting.stack.len() >= MAX_INCLUDE_DEPTH {
+            return Err(self.error(
+                span,
+                format!(
+                    "expected includes nested at most {MAX_INCLUDE_DEPTH} deep \
+                     (raypack::scene::native::MAX_INCLUDE_DEPTH), found a deeper chain at `{relative}`"
                 ),
             ));
         }
@@ -558,9 +690,9 @@ impl Reader<'_> {
             line_of(self.text.as_bytes(), span.start)
         );
         let nested = if relative.to_ascii_lowercase().ends_with(".toml") {
-            load_nested(&path, stack)
+            load_nested(&path, nesting)
         } else {
-            crate::scene::load(&path)
+            nesting.files.load(&path)
         };
         let included = nested.map_err(|mut e| {
             if e.line.is_none() {

@@ -433,6 +433,13 @@ fn read_body<B: Body>(
         if is_face {
             mesh = Some(MeshBuilder::new(path, capacity));
         }
+        if element.properties.is_empty() && !ascii {
+            // Instances without properties hold no bytes in a binary body: no
+            // data bounds their count (up to 2^64 − 1), so do not loop over them.
+            // (In ASCII each is a line, which the file must hold.) The vertex
+            // and face elements always have properties.
+            continue;
+        }
         for index in 0..element.count {
             let fail = |body: &B, m: String| {
                 let m = format!("{} {index}: {m}", element.name);
