@@ -217,19 +217,12 @@ impl Kind {
 
     /// `--seed` when none is given.
     pub fn default_seed(self) -> Option<u64> {
-        match self {
-            Kind::Sphereflake
-            | Kind::Tetra
-            | Kind::Gears
-            | Kind::Rings
-            | Kind::Tree
-            | Kind::Teapot
-            | Kind::Lattice
-            | Kind::Shells
-            | Kind::Jacks => None,
-            Kind::FractalMountain => Some(mountain::DEFAULT_MOUNTAIN),
-            Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(DEFAULT_SEED),
-        }
+        // Only kinds that take a seed have a default one.
+        self.seeds()?;
+        Some(match self {
+            Kind::FractalMountain => mountain::DEFAULT_MOUNTAIN,
+            _ => DEFAULT_SEED,
+        })
     }
 }
 
