@@ -201,17 +201,13 @@ impl Kind {
     /// The `--seed` values accepted; None for kinds that are not random.
     pub fn seeds(self) -> Option<RangeInclusive<u64>> {
         match self {
-            Kind::Sphereflake
-            | Kind::Tetra
-            | Kind::Gears
-            | Kind::Rings
-            | Kind::Tree
-            | Kind::Teapot
-            | Kind::Lattice
-            | Kind::Shells
-            | Kind::Jacks => None,
             Kind::FractalMountain => Some(0..=mountain::MAX_MOUNTAIN),
             Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(0..=u64::MAX),
+            // Every other SPD scene is fixed.
+            spd => {
+                debug_assert!(spd.is_spd());
+                None
+            }
         }
     }
 
