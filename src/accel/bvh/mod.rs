@@ -4,8 +4,8 @@
 //! same leaves. 8-ray packets traverse the binary tree ([`traverse_packet`]:
 //! testing a packet against each box as soon as the tree branches culls more
 //! than eight boxes at once would), single rays the wide tree
-//! ([`traverse_single`], one SIMD test per node), and so do the packet lanes
-//! left alone deep in the tree;
+//! ([`traverse_single`], one SIMD test per node), and so do incoherent
+//! packets ([`traverse_hybrid`], together while enough lanes share a node);
 //! shadow rays use either ([`occlusion`]). Leaves call the primitives' own
 //! kernels; a leaf of triangles or of spheres holds them in a block a single
 //! ray tests at once ([`leaf`]).
@@ -44,6 +44,7 @@ pub mod node;
 pub mod occlusion;
 pub mod ray_box;
 pub mod stack;
+pub mod traverse_hybrid;
 pub mod traverse_packet;
 pub mod traverse_single;
 pub mod wide;

@@ -92,7 +92,7 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
         });
     }
 
-    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, stats: &mut S) {
+    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S) {
         for lane in lane_bits(lanes) {
             stats.lane(lane);
             let ray = self.rays.ray(lane);
@@ -100,7 +100,7 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
                 ray: &ray,
                 hit: Hit::none(&ray),
             };
-            if traverse(bvh, ChildRef::ROOT, &SlabRay::new(&ray), &mut query, stats) {
+            if traverse(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
                 self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
             }
         }

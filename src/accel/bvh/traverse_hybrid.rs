@@ -1,0 +1,174 @@
+//! Hybrid traversal of the wide tree for incoherent packets: the packet walks
+//! the wide nodes together, each child's box tested against all its lanes at
+//! once, until a subtree is wanted by only a few lanes; those lanes then finish
+//! it one after the other as single rays ([`traverse`](super::traverse_single)).
+//! Embree's hybrid packets do the same (C. Benthin, I. Wald, S. Woop, M. Ernst,
+//! W. R. Mark, "Combining single and packet-ray tracing for arbitrary ray
+//! distributions on the Intel MIC architecture", IEEE TVCG 2012).
+//!
+//! Secondary rays from neighbouring pixels (shadow, ambient occlusion, diffuse
+//! bounces) point every which way but start close together, so they share the
+//! upper part of their paths: one load of a node serves all of them there, and
+//! the lanes split up only near the leaves. The coherent packets of primary
+//! rays keep to the binary tree ([`traverse_packet`](super::traverse_packet)).
+
+use crate::accel::bvh::Bvh;
+use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
+use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
+use crate::accel::bvh::traverse_packet::PacketQuery;
+use crate::accel::bvh::wide::{ChildRef, WIDTH};
+use crate::accel::stats::Counter;
+use crate::simd::SimdFloat;
+
+/// A subtree wanted by this many lanes or fewer is finished by them as single
+/// rays: with so few lanes, a box test for all of them costs more than the
+/// loads it shares.
+pub const SINGLE_RAY_LANES: u32 = 2;
+
+/// A child still to visit: what it is, the lanes that met its box, and the
+/// smallest of their entry t. 16 bytes.
+#[derive(Clone, Copy)]
+struct Pending {
+    child: ChildRef,
+    lanes: u32,
+    t_entry: f32,
+}
+
+/// Traverse the wide tree from its root with the lanes of `lanes` (which met
+/// the root's box) of the rays prepared in `slab`.
+#[inline]
+pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
+    bvh: &Bvh,
+    slab: &SlabPacket<F>,
+    lanes: F,
+    query: &mut Q,
+    stats: &mut S,
+) {
+    let mut stack = TraversalStack::<Pending, WIDE_STACK_SLOTS>::new();
+    let mut next = ChildRef::ROOT;
+    let mut active = lanes;
+    loop {
+        let bits = active.bitmask();
+        if bits.count_ones() <= SINGLE_RAY_LANES {
+            // Too few lanes left to share the work.
+            stats.fallback(u64::from(bits.count_ones()));
+            query.finish_lanes(bvh, bits, next, stats);
+        } else if next.is_leaf() {
+            if !next.is_empty() {
+                stats.packet_node(active);
+                query.leaf(bvh, next.contents(), active, stats);
+            }
+        } else {
+            stats.packet_node(active);
+            // Test each child's box against the active lanes; the children
+            // met are pushed nearest last, so it is popped first.
+            let node = &bvh.wide[next.node()];
+            let t_max = query.t_max();
+            let base = stack.len();
+            for i in 0..WIDTH {
+                let child = node.slot(i);
+                if child.is_empty() {
+                    break;
+                }
+                let b = node.child_bounds(i);
+                let (met, t) = slab.entry(b.min, b.max, t_max);
+                let met = met & active;
+                if met.none() {
+                    continue;
+                }
+                bvh.prefetch(child);
+                let t_entry = met
+                    .select(t, F::splat(f32::INFINITY))
+                    .to_array()
+                    .as_ref()
+                    .iter()
+                    .fold(f32::INFINITY, |a, &b| a.min(b));
+                stack.push(Pending {
+                    child,
+                    lanes: met.bitmask(),
+                    t_entry,
+                });
+                // Keep the run of this node's children sorted by decreasing entry t.
+                let run = &mut stack.as_mut_slice()[base..];
+                let mut k = run.len() - 1;
+                while k > 0 && run[k - 1].t_entry < run[k].t_entry {
+                    run.swap(k - 1, k);
+                    k -= 1;
+                }
+            }
+        }
+        // Pop the next child some lane can still find a hit in.
+        loop {
+            let Some(pending) = stack.pop() else {
+                return;
+            };
+            let live = query.live();
+            let reach = query.t_max() * F::splat(FAR_SCALE);
+            active = F::mask_from_bits(pending.lanes) & live & F::splat(pending.t_entry).le(reach);
+            if active.any() {
+                next = pending.child;
+                break;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::accel::stats::TraversalStats;
+    use crate::accel::{Accel, AccelWithStats, Bvh};
+    use crate::packet::RayPacket8;
+    use crate::ray::Ray;
+    use crate::rng::Rng;
+    use crate::scene::generate::random;
+    use crate::simd::SimdFloat;
+
+    /// Packets of rays from nearby points in random directions (as ambient
+    /// occlusion and diffuse bounces make), some bounded, some with a lane
+    /// off: every lane's nearest hit and occlusion are the single ray's, bit
+    /// for bit, on meshes, sphere clouds and mixed scenes, and the packets do
+    /// walk shared nodes before they split into single rays.
+    #[test]
+    fn incoherent_packets_answer_as_their_single_rays() {
+        let mut rng = Rng::new(11);
+        for prims in [
+            random::bumpy_sphere(20_000, 3),
+            random::random_spheres(5_000, 4),
+            random::random_mixed(5_000, 5),
+        ] {
+            let bvh = Bvh::new(&prims);
+            let bounds = bvh.bounds();
+            let mut stats = TraversalStats::default();
+            for _ in 0..2_000 {
+                let centre = rng.point_in(bounds.min, bounds.max);
+                let spread = 0.02 * (bounds.max - bounds.min).length();
+                let rays: Vec<Ray> = (0..8)
+                    .map(|_| {
+                        let origin = centre + rng.point_in(Vec3::splat(-spread), Vec3::splat(spread));
+                        let t_max = if rng.below(2) == 0 {
+                            f32::INFINITY
+                        } else {
+                            rng.range(0.0, 4.0 * spread)
+                        };
+                        Ray::new(origin, rng.unit_vector(), 1e-4, t_max)
+                    })
+                    .collect();
+                let active = if rng.below(4) == 0 { 0b1011_1111 } else { 0xff };
+                let packet = RayPacket8::from_rays_masked(&rays, active);
+                let hits = bvh.intersect_packet_with_stats(&packet, &mut stats);
+                let occluded = bvh.occluded_packet_with_stats(&packet, &mut stats).bitmask();
+                for (lane, ray) in rays.iter().enumerate().filter(|(l, _)| active >> l & 1 == 1) {
+                    assert_eq!(hits.hit(lane), bvh.intersect(ray), "lane {lane} of {rays:?}");
+                    assert_eq!(
+                        occluded >> lane & 1 == 1,
+                        bvh.occluded(ray),
+                        "lane {lane} of {rays:?}"
+                    );
+                }
+            }
+            assert!(stats.simd_steps > 0 && stats.fallback_rays > 0, "{stats:?}");
+        }
+    }
+}
