@@ -89,10 +89,11 @@ fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
     let (p, r) = (primary.lane_utilisation(), random.lane_utilisation());
     assert!(p > 0.0 && p <= 1.0, "primary {p}");
     assert_eq!(primary.fallback_rays, 0, "coherent packets stay packets");
-    // Incoherent packets are traced as single rays: no SIMD steps over rays.
-    assert_eq!((r, random.simd_lane_slots), (0.0, 0));
-    // Every lane that meets the root's box (these rays come from outside it).
-    assert!(random.fallback_rays > 0 && random.fallback_rays <= random.rays);
+    // Incoherent packets walk the top of the wide tree together, with fewer
+    // lanes taking part than coherent ones, and split into single rays below
+    // (a lane may do so in more than one subtree).
+    assert!(r > 0.0 && r < p, "random {r}, primary {p}");
+    assert!(random.fallback_rays > 0);
     assert!(primary.simd_active_lanes <= primary.simd_lane_slots);
 }
 

@@ -1,6 +1,6 @@
 //! What a BVH leaf stores. A leaf of triangles only (what meshes are made of)
-//! holds them in [`TriangleBlock`]s of four, and a leaf of spheres only in
-//! [`SphereBlock`]s of four, which a single ray tests at once
+//! holds them in [`TriangleBlock`]s of [`BLOCK_SIZE`] (8 with AVX, else 4), and
+//! a leaf of spheres only in [`SphereBlock`]s alike, which a single ray tests at once
 //! ([`ProjectedTriangles`], [`Spheres`]); any other leaf holds a run of
 //! [`LeafPrim`]s: the kernel's data inline for spheres and triangles, a
 //! reference to a full [`Primitive`] for the rest, and the input index hits
@@ -21,6 +21,7 @@
 
 use std::ops::Range;
 
+use crate::accel::bvh::wide::NodeLanes;
 use crate::accel::stats::Counter;
 use crate::geometry::sphere::Spheres;
 use crate::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
@@ -30,15 +31,17 @@ use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
 
 /// The lanes of a [`TriangleBlock`] or [`SphereBlock`].
-pub type BlockLanes = wide::f32x4;
+pub type BlockLanes = NodeLanes;
 
 /// Primitives per block ([`TriangleBlock`], [`SphereBlock`]).
-pub const BLOCK_SIZE: usize = 4;
+pub const BLOCK_SIZE: usize = BlockLanes::LANES;
 
-/// Up to four of a leaf's triangles, tested by one ray at once. 192 bytes.
+/// Up to [`BLOCK_SIZE`] of a leaf's triangles, tested by one ray at once. 384
+/// bytes for 8 lanes (six cache lines), 192 for 4.
 pub type TriangleBlock = ProjectedTriangles<BlockLanes>;
 
-/// Up to four of a leaf's spheres, tested by one ray at once. 128 bytes.
+/// Up to [`BLOCK_SIZE`] of a leaf's spheres, tested by one ray at once. 192
+/// bytes for 8 lanes, 128 for 4.
 pub type SphereBlock = Spheres<BlockLanes>;
 
 /// Marks a leaf of [`TriangleBlock`]s in its node's count word.
@@ -261,36 +264,45 @@ mod tests {
     use crate::geometry::{Cone, Triangle};
 
     #[test]
-    fn record_is_48_bytes_and_blocks_192_and_128() {
+    fn record_is_48_bytes_and_blocks_fill_whole_cache_lines() {
+        // 11 rows of lanes for triangles, 6 for spheres, rounded up to 64 bytes.
         assert_eq!(size_of::<LeafPrim>(), 48);
-        assert_eq!(size_of::<TriangleBlock>(), 192);
-        assert_eq!(size_of::<SphereBlock>(), 128);
+        assert_eq!(
+            size_of::<TriangleBlock>(),
+            (11 * 4 * BLOCK_SIZE).next_multiple_of(64)
+        );
+        assert_eq!(
+            size_of::<SphereBlock>(),
+            (6 * 4 * BLOCK_SIZE).next_multiple_of(64)
+        );
     }
 
     #[test]
     fn leaf_refs_round_trip_through_the_node_words() {
+        // Block leaves of 1, a full block, and a block and a bit.
+        let blocks = |first: usize, count: usize| first..first + count.div_ceil(BLOCK_SIZE);
         for leaf in [
             LeafRef::Prims(0..0),
             LeafRef::Prims(7..10),
             LeafRef::Triangles {
-                blocks: 3..4,
+                blocks: blocks(3, 1),
                 count: 1,
             },
             LeafRef::Triangles {
-                blocks: 3..4,
-                count: 4,
+                blocks: blocks(3, BLOCK_SIZE),
+                count: BLOCK_SIZE,
             },
             LeafRef::Triangles {
-                blocks: 12..14,
-                count: 5,
+                blocks: blocks(12, BLOCK_SIZE + 1),
+                count: BLOCK_SIZE + 1,
             },
             LeafRef::Spheres {
-                blocks: 0..1,
+                blocks: blocks(0, 1),
                 count: 1,
             },
             LeafRef::Spheres {
-                blocks: 9..11,
-                count: 8,
+                blocks: blocks(9, 2 * BLOCK_SIZE),
+                count: 2 * BLOCK_SIZE,
             },
         ] {
             let (first, word) = leaf.encode();

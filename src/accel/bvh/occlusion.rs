@@ -24,6 +24,8 @@ struct AnyHit<'a> {
 }
 
 impl RayQuery for AnyHit<'_> {
+    const NEAREST_FIRST: bool = false;
+
     #[inline(always)]
     fn t_max(&self) -> f32 {
         self.ray.t_max

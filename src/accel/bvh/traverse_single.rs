@@ -16,6 +16,11 @@ use crate::ray::{Hit, Ray};
 
 /// What a single-ray traversal does in leaves, and how far it looks.
 pub trait RayQuery {
+    /// Whether children are visited nearest first. Nearest-hit queries gain
+    /// from it (a near hit culls the far children); an any-hit query stops at
+    /// whatever it meets first, so it saves the ordering.
+    const NEAREST_FIRST: bool = true;
+
     /// The largest t still of interest (the current hit's t for nearest-hit queries).
     fn t_max(&self) -> f32;
 
@@ -54,7 +59,7 @@ pub fn traverse<Q: RayQuery, S: Counter>(
                 // predictor loses, so both are settled by selects.
                 let i = bits.trailing_zeros() as usize;
                 let j = rest.trailing_zeros() as usize % WIDTH; // any slot when `rest` is 0
-                let j_nearer = rest != 0 && t[j] < t[i];
+                let j_nearer = Q::NEAREST_FIRST && rest != 0 && t[j] < t[i];
                 let (near, far) = std::hint::select_unpredictable(j_nearer, (j, i), (i, j));
                 // The far child is wanted later: have its lines loaded by then.
                 if rest != 0 {
@@ -72,6 +77,9 @@ pub fn traverse<Q: RayQuery, S: Counter>(
                 bits &= bits - 1;
                 bvh.prefetch(node.slot(i));
                 stack.push((node.slot(i), t[i]));
+                if !Q::NEAREST_FIRST {
+                    continue;
+                }
                 let run = &mut stack.as_mut_slice()[base..];
                 let mut k = run.len() - 1;
                 while k > 0 && run[k - 1].1 < run[k].1 {

@@ -161,8 +161,10 @@ impl<F: SimdFloat> WideNodeOf<F> {
         let plane = |axis: usize, corner: usize| {
             F::from_array(self.bounds[axis][corner]) - F::splat(ray.origin[axis])
         };
-        let near = |axis: usize| plane(axis, ray.entry_corner(axis)) * F::splat(ray.inv_dir[axis]);
-        let far = |axis: usize| plane(axis, 1 - ray.entry_corner(axis)) * F::splat(ray.inv_dir_far[axis]);
+        // `& 1` tells the compiler the corner is 0 or 1, so it checks no bounds.
+        let near = |axis: usize| plane(axis, ray.entry_corner(axis) & 1) * F::splat(ray.inv_dir[axis]);
+        let far =
+            |axis: usize| plane(axis, (ray.entry_corner(axis) ^ 1) & 1) * F::splat(ray.inv_dir_far[axis]);
         let t_near = near(0).fast_max(near(1).fast_max(near(2).fast_max(F::splat(ray.t_min))));
         let t_far = far(0).fast_min(far(1).fast_min(far(2).fast_min(F::splat(t_max * FAR_SCALE))));
         (t_near.le(t_far).bitmask(), t_near.to_array())
