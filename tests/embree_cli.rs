@@ -323,6 +323,8 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
         "time per ray, embree, mesh-200 -> mesh-400 (2t",
         "raypack / Embree, mesh-400 (2t",
         "  ao       Mrays/s single ",
+        "growth of time per ray (best path), raypack vs Embree, mesh-200 -> mesh-400 (1t): primary ",
+        "growth of time per ray (best path), raypack vs Embree, mesh-200 -> mesh-400 (2t): primary ",
     ] {
         assert!(text.lines().any(|l| l.starts_with(start)), "{start}\n{text}");
     }

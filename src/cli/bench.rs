@@ -8,7 +8,7 @@ use clap::{Args, Subcommand};
 use crate::bench::kernels::{Measure, for_each_setup};
 use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure, measure_set};
-use crate::bench::traversal::{TraversalRow, scene_bounds};
+use crate::bench::traversal::{KindRow, TraversalRow, scene_bounds};
 use crate::cli::args::{load_scene, parse_size, scene_camera};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
@@ -221,6 +221,7 @@ fn print_traversal(rows: &[TraversalRow]) {
             }
         }
     }
+    print_growth_against_embree(rows);
     for ours in rows.iter().filter(|r| r.engine == Engine::Raypack) {
         let theirs = rows
             .iter()
@@ -243,6 +244,39 @@ fn print_traversal(rows: &[TraversalRow]) {
                 best_a / best_b,
             );
         }
+    }
+}
+
+/// Per ray kind, how the time per ray of each engine's best path (single rays
+/// or packets, whichever is faster on each scene) grows from the first scene
+/// to each later one, raypack's growth beside Embree's.
+fn print_growth_against_embree(rows: &[TraversalRow]) {
+    let of = |engine| -> Vec<&TraversalRow> { rows.iter().filter(|r| r.engine == engine).collect() };
+    let (ours, theirs) = (of(Engine::Raypack), of(Engine::Embree));
+    let (Some(our_first), Some(their_first)) = (ours.first(), theirs.first()) else {
+        return;
+    };
+    let seconds_per_ray = |k: &KindRow| 1.0 / k.best().0;
+    for (our_row, their_row) in ours.iter().zip(&theirs).skip(1) {
+        let kinds: Vec<String> = (our_row.kinds.iter().zip(&our_first.kinds))
+            .zip(their_row.kinds.iter().zip(&their_first.kinds))
+            .map(|((kind, our_first), (theirs, their_first))| {
+                let ours = seconds_per_ray(kind) / seconds_per_ray(our_first);
+                let theirs = seconds_per_ray(theirs) / seconds_per_ray(their_first);
+                format!(
+                    "{} {ours:.2}x vs {theirs:.2}x ({:+.0}%)",
+                    kind.kind.name(),
+                    100.0 * (ours / theirs - 1.0)
+                )
+            })
+            .collect();
+        println!(
+            "growth of time per ray (best path), raypack vs Embree, {} -> {} ({}t): {}",
+            our_first.scene,
+            our_row.scene,
+            our_row.threads,
+            kinds.join(", ")
+        );
     }
 }
 

@@ -68,6 +68,8 @@ struct AnyHitPacket<F: SimdFloat> {
 }
 
 impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
+    const NEAREST_FIRST: bool = false;
+
     #[inline(always)]
     fn t_max(&self) -> F {
         self.rays.t_max

@@ -77,6 +77,15 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
                     continue;
                 }
                 bvh.prefetch(child);
+                if !Q::NEAREST_FIRST {
+                    // Any hit: no order, and the lanes' reach does not shrink.
+                    stack.push(Pending {
+                        child,
+                        lanes: met.bitmask(),
+                        t_entry: f32::NEG_INFINITY,
+                    });
+                    continue;
+                }
                 let t_entry = met
                     .select(t, F::splat(f32::INFINITY))
                     .to_array()

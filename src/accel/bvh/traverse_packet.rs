@@ -39,6 +39,11 @@ pub const COHERENT_COS: f32 = 0.99;
 
 /// What a packet traversal does in leaves, and how far each lane looks.
 pub trait PacketQuery<F: SimdFloat> {
+    /// Whether children are visited nearest first (see [`RayQuery::NEAREST_FIRST`]).
+    ///
+    /// [`RayQuery::NEAREST_FIRST`]: crate::accel::bvh::traverse_single::RayQuery::NEAREST_FIRST
+    const NEAREST_FIRST: bool = true;
+
     /// Per lane, the largest t still of interest.
     fn t_max(&self) -> F;
 
