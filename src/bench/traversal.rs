@@ -22,7 +22,7 @@ use crate::accel::{Accel, AccelWithStats, Bvh, TraversalStats};
 use crate::bench::rays::{Query, RayKind, RaySet, RaySource, default_light};
 use crate::bounds::Aabb;
 use crate::camera::Camera;
-use crate::engine::Engine;
+use crate::engine::{EmbreeIsa, Engine};
 use crate::geometry::Primitive;
 use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
 use crate::simd::SimdFloat;
@@ -155,6 +155,26 @@ pub fn trace_packets(accel: &impl Accel, set: &RaySet) -> u64 {
         .sum()
 }
 
+/// An engine as measured: Embree with the kernels of one ISA setting.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EngineVariant {
+    /// The engine.
+    pub engine: Engine,
+    /// Embree's ISA setting (None for raypack).
+    pub embree_isa: Option<EmbreeIsa>,
+}
+
+impl EngineVariant {
+    /// `raypack`, `embree(avx2)`, `embree(default)`.
+    pub fn name(self) -> String {
+        match (self.engine, self.embree_isa) {
+            (Engine::Raypack, _) => "raypack".into(),
+            (Engine::Embree, Some(isa)) => format!("embree({})", isa.name()),
+            (Engine::Embree, None) => "embree".into(),
+        }
+    }
+}
+
 /// A structure built over a scene whose traversal is timed.
 pub enum Structure {
     /// raypack's SAH BVH.
@@ -179,57 +199,67 @@ impl Structure {
 }
 
 /// Builds each engine's structure with `threads` threads; holds Embree's
-/// device when Embree is measured.
+/// devices (one per ISA setting) when Embree is measured.
 pub struct Builder {
-    engines: Vec<Engine>,
+    variants: Vec<EngineVariant>,
     threads: usize,
     #[cfg(feature = "embree")]
-    device: Option<std::sync::Arc<crate::embree::Device>>,
+    devices: Vec<(EmbreeIsa, std::sync::Arc<crate::embree::Device>)>,
 }
 
 impl Builder {
-    /// A builder for `engines` on `threads` threads: Embree's device (on
-    /// [`embree_config`](crate::engine::embree_config)`(threads)`, so its
-    /// build gets as many threads as raypack's) is made here, so a missing
-    /// feature or a failing device is reported before any scene is generated.
+    /// A builder for `engines` on `threads` threads, Embree at each setting of
+    /// `embree_isas`: Embree's devices (on [`EmbreeIsa::config`]`(threads)`,
+    /// so its build gets as many threads as raypack's) are made here, so a
+    /// missing feature or a failing device is reported before any scene is
+    /// generated.
     ///
     /// Embree's thread limit is the task scheduler's, shared by every device
     /// of the process: drop one builder before making the next.
-    pub fn new(engines: &[Engine], threads: usize) -> anyhow::Result<Self> {
+    pub fn new(engines: &[Engine], embree_isas: &[EmbreeIsa], threads: usize) -> anyhow::Result<Self> {
         anyhow::ensure!(!engines.is_empty(), "no engine to measure");
-        let mut distinct = Vec::new();
+        let mut variants: Vec<EngineVariant> = Vec::new();
         for &engine in engines {
-            if !distinct.contains(&engine) {
-                distinct.push(engine);
+            let isas = match engine {
+                Engine::Raypack => vec![None],
+                Engine::Embree => embree_isas.iter().copied().map(Some).collect(),
+            };
+            for embree_isa in isas {
+                let variant = EngineVariant { engine, embree_isa };
+                if !variants.contains(&variant) {
+                    variants.push(variant);
+                }
             }
         }
-        let engines = distinct;
+        anyhow::ensure!(!variants.is_empty(), "no Embree ISA setting to measure");
         let threads = threads.max(1);
-        let embree = engines.contains(&Engine::Embree);
         #[cfg(feature = "embree")]
         {
-            let device = if embree {
-                let device = crate::embree::Device::new(&crate::engine::embree_config(threads))?;
-                Some(std::sync::Arc::new(device))
-            } else {
-                None
-            };
+            let devices = variants
+                .iter()
+                .filter_map(|v| v.embree_isa)
+                .map(|isa| {
+                    let device = crate::embree::Device::new(&isa.config(threads))?;
+                    Ok((isa, std::sync::Arc::new(device)))
+                })
+                .collect::<anyhow::Result<_>>()?;
             Ok(Self {
-                engines,
+                variants,
                 threads,
-                device,
+                devices,
             })
         }
         #[cfg(not(feature = "embree"))]
         {
+            let embree = variants.iter().any(|v| v.engine == Engine::Embree);
             anyhow::ensure!(!embree, crate::engine::EMBREE_MISSING);
-            Ok(Self { engines, threads })
+            Ok(Self { variants, threads })
         }
     }
 
-    /// The engines measured, in the order given.
-    pub fn engines(&self) -> &[Engine] {
-        &self.engines
+    /// The engines measured, in the order given (Embree once per ISA setting).
+    pub fn variants(&self) -> &[EngineVariant] {
+        &self.variants
     }
 
     /// Threads of the builds, and of the pool that [`measure`] traces on.
@@ -237,16 +267,20 @@ impl Builder {
         self.threads
     }
 
-    /// Build `engine`'s structure over `prims`.
-    pub fn build(&self, engine: Engine, prims: &[Primitive]) -> anyhow::Result<Structure> {
-        match engine {
+    /// Build `variant`'s structure over `prims`.
+    pub fn build(&self, variant: EngineVariant, prims: &[Primitive]) -> anyhow::Result<Structure> {
+        match variant.engine {
             Engine::Raypack => Ok(Structure::Raypack(Bvh::new(prims))),
             #[cfg(feature = "embree")]
             Engine::Embree => {
                 let device = self
-                    .device
-                    .clone()
-                    .ok_or_else(|| anyhow::anyhow!("Embree was not among the builder's engines"))?;
+                    .devices
+                    .iter()
+                    .find(|(isa, _)| Some(*isa) == variant.embree_isa)
+                    .map(|(_, device)| device.clone())
+                    .ok_or_else(|| {
+                        anyhow::anyhow!("{} was not among the builder's engines", variant.name())
+                    })?;
                 Ok(Structure::Embree(crate::embree::EmbreeScene::new(device, prims)?))
             }
             #[cfg(not(feature = "embree"))]
@@ -264,6 +298,8 @@ pub struct TraversalRow {
     pub primitives: usize,
     /// Engine whose structure was traversed.
     pub engine: Engine,
+    /// Embree's ISA setting (None for raypack).
+    pub embree_isa: Option<EmbreeIsa>,
     /// Threads of the rayon pool.
     pub threads: usize,
     /// Best build time, seconds.
@@ -276,6 +312,16 @@ pub struct TraversalRow {
     pub kinds: Vec<KindRow>,
     /// Timed rounds per variant (best kept).
     pub rounds: usize,
+}
+
+impl TraversalRow {
+    /// The engine as measured (with Embree's ISA setting).
+    pub fn variant(&self) -> EngineVariant {
+        EngineVariant {
+            engine: self.engine,
+            embree_isa: self.embree_isa,
+        }
+    }
 }
 
 /// The figures of one ray kind in a [`TraversalRow`].
@@ -328,7 +374,7 @@ fn best_time<T>(rounds: usize, mut f: impl FnMut() -> T) -> Duration {
 /// A scene and an engine measured on it.
 struct Case<'a> {
     setup: &'a TraversalSetup,
-    engine: Engine,
+    variant: EngineVariant,
     structure: Structure,
     /// Best build time.
     build: Duration,
@@ -361,10 +407,10 @@ pub fn measure(
     builder: &Builder,
     rounds: usize,
 ) -> anyhow::Result<Vec<TraversalRow>> {
-    let (engines, threads) = (builder.engines(), builder.threads());
+    let (variants, threads) = (builder.variants(), builder.threads());
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads);
     #[cfg(feature = "embree")]
-    let pool = if engines.contains(&Engine::Embree) {
+    let pool = if variants.iter().any(|v| v.engine == Engine::Embree) {
         pool.start_handler(|_| crate::embree::flush_denormals())
     } else {
         pool
@@ -372,21 +418,21 @@ pub fn measure(
     let pool = pool.build()?;
     pool.install(|| {
         // Build each structure three times, keeping the best time and the last structure.
-        let mut cases = Vec::with_capacity(setups.len() * engines.len());
+        let mut cases = Vec::with_capacity(setups.len() * variants.len());
         for setup in setups {
-            for &engine in engines {
+            for &variant in variants {
                 let mut build = Duration::MAX;
                 let mut structure = None;
                 for _ in 0..3 {
                     let start = Instant::now();
-                    let built = builder.build(engine, &setup.prims)?;
+                    let built = builder.build(variant, &setup.prims)?;
                     build = build.min(start.elapsed());
                     structure = Some(built);
                 }
                 let structure = structure.expect("three builds");
                 cases.push(Case {
                     setup,
-                    engine,
+                    variant,
                     structure,
                     build,
                     best: vec![[Duration::MAX; 2]; setup.sets.len()],
@@ -418,7 +464,7 @@ pub fn measure(
             .map(|case| {
                 let first = cases
                     .iter()
-                    .find(|c| c.engine == case.engine)
+                    .find(|c| c.variant == case.variant)
                     .expect("the case itself")
                     .per_ray();
                 let growth: Vec<[f64; 2]> = case
@@ -472,7 +518,8 @@ fn row(case: &Case<'_>, threads: usize, rounds: usize, growth: &[[f64; 2]]) -> T
     TraversalRow {
         scene: setup.name.clone(),
         primitives: setup.prims.len(),
-        engine: case.engine,
+        engine: case.variant.engine,
+        embree_isa: case.variant.embree_isa,
         threads,
         build_s: case.build.as_secs_f64(),
         sah_cost,

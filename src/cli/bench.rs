@@ -8,9 +8,10 @@ use clap::{Args, Subcommand};
 use crate::bench::kernels::{Measure, for_each_setup};
 use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure, measure_set};
-use crate::bench::traversal::{KindRow, TraversalRow, scene_bounds};
+use crate::bench::traversal::{EngineVariant, TraversalRow, scene_bounds};
 use crate::cli::args::{load_scene, parse_size, scene_camera};
 use crate::cli::{CliError, CliResult};
+use crate::engine::EmbreeIsa;
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, KernelKind};
 
@@ -61,6 +62,11 @@ pub struct TraversalArgs {
     /// each engine's time per ray grows from its own first scene.
     #[arg(long, value_enum, value_delimiter = ',', default_value = "raypack")]
     pub engine: Vec<Engine>,
+    /// Embree's kernels, comma-separated, each measured as an engine of its
+    /// own: `avx2` (8-wide, as raypack's packets) and `default` (Embree's own
+    /// choice for the CPU, AVX-512 where there is one).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [EmbreeIsa::Avx2, EmbreeIsa::Default])]
+    pub embree_isa: Vec<EmbreeIsa>,
     /// Print a JSON array instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -101,7 +107,8 @@ fn traversal(args: TraversalArgs) -> CliResult {
 
     // Ask for the engines before generating scenes: Embree may be missing.
     let first_threads = args.threads.first().copied().unwrap_or(1);
-    let mut builder = Builder::new(&args.engine, first_threads).map_err(CliError::BadInput)?;
+    let mut builder =
+        Builder::new(&args.engine, &args.embree_isa, first_threads).map_err(CliError::BadInput)?;
 
     let (width, height) = args.size;
     let setups: Vec<TraversalSetup> = match &args.scene {
@@ -139,7 +146,7 @@ fn traversal(args: TraversalArgs) -> CliResult {
             // Embree's device takes the thread count, and its thread limit is
             // process-wide: the old device goes before the new one is made.
             drop(builder);
-            builder = Builder::new(&args.engine, threads).map_err(CliError::Failed)?;
+            builder = Builder::new(&args.engine, &args.embree_isa, threads).map_err(CliError::Failed)?;
         }
         let measured = measure(&setups, &builder, args.rounds.max(1)).map_err(CliError::Failed)?;
         if !args.json {
@@ -176,7 +183,7 @@ fn print_traversal(rows: &[TraversalRow]) {
             "{:<14} {:>8} prims {:<7} {}t  build {:>7.1} ms{sah}  primary rays {}x{}",
             row.scene,
             row.primitives,
-            engine_name(row.engine),
+            row.variant().name(),
             row.threads,
             1e3 * row.build_s,
             row.resolution.0,
@@ -198,8 +205,14 @@ fn print_traversal(rows: &[TraversalRow]) {
             );
         }
     }
-    for engine in [Engine::Raypack, Engine::Embree] {
-        let of_engine: Vec<&TraversalRow> = rows.iter().filter(|r| r.engine == engine).collect();
+    let mut variants: Vec<EngineVariant> = Vec::new();
+    for row in rows {
+        if !variants.contains(&row.variant()) {
+            variants.push(row.variant());
+        }
+    }
+    for variant in variants {
+        let of_engine: Vec<&TraversalRow> = rows.iter().filter(|r| r.variant() == variant).collect();
         if let [first, rest @ ..] = of_engine.as_slice() {
             for row in rest {
                 let kinds: Vec<String> = row
@@ -212,7 +225,7 @@ fn print_traversal(rows: &[TraversalRow]) {
                     .collect();
                 println!(
                     "time per ray, {}, {} -> {} ({}t, same rounds): {}",
-                    engine_name(engine),
+                    variant.name(),
                     first.scene,
                     row.scene,
                     row.threads,
@@ -223,49 +236,84 @@ fn print_traversal(rows: &[TraversalRow]) {
     }
     print_growth_against_embree(rows);
     for ours in rows.iter().filter(|r| r.engine == Engine::Raypack) {
-        let theirs = rows
+        let theirs: Vec<&TraversalRow> = rows
             .iter()
-            .find(|r| r.engine == Engine::Embree && r.scene == ours.scene);
-        let Some(theirs) = theirs else { continue };
+            .filter(|r| r.engine == Engine::Embree && r.scene == ours.scene)
+            .collect();
+        let Some(fastest_build) = theirs.iter().map(|r| r.build_s).reduce(f64::min) else {
+            continue;
+        };
         println!(
-            "raypack / Embree, {} ({}t, same rounds): build time {:.2}x (both on {}t)",
+            "raypack / Embree, {} ({}t, same rounds): build time {:.2}x against Embree's faster setting (both on {}t)",
             ours.scene,
             ours.threads,
-            ours.build_s / theirs.build_s,
+            ours.build_s / fastest_build,
             ours.threads,
         );
-        for (a, b) in ours.kinds.iter().zip(&theirs.kinds) {
-            let ((best_a, path_a), (best_b, path_b)) = (a.best(), b.best());
+        for (k, ours_k) in ours.kinds.iter().enumerate() {
+            let (best_a, path_a) = ours_k.best();
+            let (best_b, path_b) = best_embree(&theirs, k);
+            let ratios: Vec<String> = theirs
+                .iter()
+                .map(|r| {
+                    let b = &r.kinds[k];
+                    format!(
+                        "vs {}: single {:.2}x packet8 {:.2}x",
+                        r.variant().name(),
+                        ours_k.single_mrays / b.single_mrays,
+                        ours_k.packet_mrays / b.packet_mrays
+                    )
+                })
+                .collect();
             println!(
-                "  {:<8} Mrays/s single {:.2}x packet8 {:.2}x; best {:.2}x (raypack {path_a} {best_a:.2} vs Embree {path_b} {best_b:.2})",
-                a.kind.name(),
-                a.single_mrays / b.single_mrays,
-                a.packet_mrays / b.packet_mrays,
+                "  {:<8} Mrays/s {}; best {:.2}x (raypack {path_a} {best_a:.2} vs {path_b} {best_b:.2})",
+                ours_k.kind.name(),
+                ratios.join("; "),
                 best_a / best_b,
             );
         }
     }
 }
 
+/// Embree's best path on kind `k` over the rows of its settings: Mrays/s and
+/// which it was (`embree(avx2) packet8`…).
+fn best_embree(rows: &[&TraversalRow], k: usize) -> (f64, String) {
+    rows.iter()
+        .map(|r| {
+            let (mrays, path) = r.kinds[k].best();
+            (mrays, format!("{} {path}", r.variant().name()))
+        })
+        .fold((0.0, String::new()), |a, b| if b.0 > a.0 { b } else { a })
+}
+
 /// Per ray kind, how the time per ray of each engine's best path (single rays
-/// or packets, whichever is faster on each scene) grows from the first scene
-/// to each later one, raypack's growth beside Embree's.
+/// or packets, whichever is faster on each scene; for Embree also the faster
+/// of its ISA settings) grows from the first scene to each later one,
+/// raypack's growth beside Embree's.
 fn print_growth_against_embree(rows: &[TraversalRow]) {
-    let of = |engine| -> Vec<&TraversalRow> { rows.iter().filter(|r| r.engine == engine).collect() };
-    let (ours, theirs) = (of(Engine::Raypack), of(Engine::Embree));
-    let (Some(our_first), Some(their_first)) = (ours.first(), theirs.first()) else {
-        return;
+    let ours: Vec<&TraversalRow> = rows.iter().filter(|r| r.engine == Engine::Raypack).collect();
+    let theirs_on = |scene: &str| -> Vec<&TraversalRow> {
+        rows.iter()
+            .filter(|r| r.engine == Engine::Embree && r.scene == scene)
+            .collect()
     };
-    let seconds_per_ray = |k: &KindRow| 1.0 / k.best().0;
-    for (our_row, their_row) in ours.iter().zip(&theirs).skip(1) {
-        let kinds: Vec<String> = (our_row.kinds.iter().zip(&our_first.kinds))
-            .zip(their_row.kinds.iter().zip(&their_first.kinds))
-            .map(|((kind, our_first), (theirs, their_first))| {
-                let ours = seconds_per_ray(kind) / seconds_per_ray(our_first);
-                let theirs = seconds_per_ray(theirs) / seconds_per_ray(their_first);
+    let Some(our_first) = ours.first() else { return };
+    let their_first = theirs_on(&our_first.scene);
+    if their_first.is_empty() {
+        return;
+    }
+    for our_row in ours.iter().skip(1) {
+        let theirs = theirs_on(&our_row.scene);
+        if theirs.is_empty() {
+            continue;
+        }
+        let kinds: Vec<String> = (0..our_row.kinds.len())
+            .map(|k| {
+                let ours = our_first.kinds[k].best().0 / our_row.kinds[k].best().0;
+                let theirs = best_embree(&their_first, k).0 / best_embree(&theirs, k).0;
                 format!(
                     "{} {ours:.2}x vs {theirs:.2}x ({:+.0}%)",
-                    kind.kind.name(),
+                    our_row.kinds[k].kind.name(),
                     100.0 * (ours / theirs - 1.0)
                 )
             })
