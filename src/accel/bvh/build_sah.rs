@@ -22,7 +22,7 @@
 //! too deep, the node is split at the median centroid instead, which bounds the
 //! depth by [`MAX_DEPTH`].
 
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec3A, Vec4};
 
 use crate::accel::bvh::leaf::BLOCK_SIZE;
 use crate::accel::bvh::node::{Node, NodePair};
@@ -97,12 +97,9 @@ pub fn build(boxes: &[Aabb], options: &BuildOptions) -> Built {
     let mut refs: Vec<PrimRef> = boxes
         .iter()
         .enumerate()
-        .map(|(i, b)| PrimRef {
-            bounds: Box3::new(b.min.into(), b.max.into()),
-            id: i as u32,
-        })
+        .map(|(i, b)| PrimRef::new(Box3::new(b.min.into(), b.max.into()), i as u32))
         .collect();
-    let bounds = refs.iter().fold(Box3::EMPTY, |a, r| a.union(&r.bounds));
+    let bounds = refs.iter().fold(Box3::EMPTY, |a, r| a.union(&r.bounds()));
     let centroids = refs.iter().fold(Box3::EMPTY, |a, r| a.grow(r.centroid()));
     let tree = ctx.subtree(&mut refs, 0, bounds, centroids, 0);
     // Flatten depth first: a node's children pair, then the left subtree, then the right.
@@ -110,7 +107,7 @@ pub fn build(boxes: &[Aabb], options: &BuildOptions) -> Built {
     pairs[0].0[0] = emit(&tree, &mut pairs);
     Built {
         pairs,
-        order: refs.iter().map(|r| r.id).collect(),
+        order: refs.iter().map(PrimRef::id).collect(),
     }
 }
 
@@ -155,17 +152,42 @@ impl Box3 {
 }
 
 /// A primitive's box and input index: what the builder sorts. The builder moves
-/// these (not indices into the boxes), so its passes read memory in order. 48 bytes.
+/// these (not indices into the boxes), so its passes read memory in order. 32
+/// bytes: the index rides in the spare fourth lane of the lower corner, as in
+/// Embree's `PrimRef`, so a million of them stream a third less memory.
 #[derive(Clone, Copy, Debug)]
 struct PrimRef {
-    bounds: Box3,
-    id: u32,
+    /// Lower corner; `w` holds the input index's bits.
+    lower: Vec4,
+    /// Upper corner; `w` unused.
+    upper: Vec4,
 }
 
 impl PrimRef {
     #[inline(always)]
+    fn new(bounds: Box3, id: u32) -> Self {
+        Self {
+            lower: bounds.min.extend(f32::from_bits(id)),
+            upper: bounds.max.extend(0.0),
+        }
+    }
+
+    /// The box (the fourth lanes play no part in its arithmetic).
+    #[inline(always)]
+    fn bounds(&self) -> Box3 {
+        Box3::new(Vec3A::from_vec4(self.lower), Vec3A::from_vec4(self.upper))
+    }
+
+    /// Index in the input boxes.
+    #[inline(always)]
+    fn id(&self) -> u32 {
+        self.lower.w.to_bits()
+    }
+
+    #[inline(always)]
     fn centroid(&self) -> Vec3A {
-        0.5 * self.bounds.min + 0.5 * self.bounds.max
+        let b = self.bounds();
+        0.5 * b.min + 0.5 * b.max
     }
 }
 
@@ -313,7 +335,7 @@ impl Context {
             let k = bins_of(n_bins, r.centroid(), centroids.min, scale);
             for axis in 0..3 {
                 let bin = &mut bins[axis][k[axis]];
-                bin.bounds = bin.bounds.union(&r.bounds);
+                bin.bounds = bin.bounds.union(&r.bounds());
                 bin.count += 1;
             }
         }
@@ -361,7 +383,7 @@ fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> 
     let goes_left = |c: Vec3A| bins_of(bins, c, centroids.min, scale)[s.axis] <= s.last_left;
     let mut sides = [(Box3::EMPTY, Box3::EMPTY); 2];
     let mut add = |side: usize, r: &PrimRef, c: Vec3A| {
-        sides[side] = (sides[side].0.union(&r.bounds), sides[side].1.grow(c));
+        sides[side] = (sides[side].0.union(&r.bounds()), sides[side].1.grow(c));
     };
     // Hoare's scheme: walk in from both ends and swap only misplaced pairs.
     let (mut i, mut j) = (0, refs.len());
@@ -434,7 +456,7 @@ fn median_split(refs: &mut [PrimRef], centroids: &Box3) -> Division {
     refs.select_nth_unstable_by(mid, |a, b| a.centroid()[axis].total_cmp(&b.centroid()[axis]));
     let side = |rs: &[PrimRef]| {
         rs.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, c), r| {
-            (b.union(&r.bounds), c.grow(r.centroid()))
+            (b.union(&r.bounds()), c.grow(r.centroid()))
         })
     };
     Division {
@@ -453,10 +475,7 @@ mod tests {
         let refs: Vec<PrimRef> = (0..100)
             .map(|i| {
                 let p = Vec3A::new(i as f32, (i % 7) as f32, 0.0);
-                PrimRef {
-                    bounds: Box3::new(p, p + Vec3A::ONE),
-                    id: i,
-                }
+                PrimRef::new(Box3::new(p, p + Vec3A::ONE), i)
             })
             .collect();
         let centroids = refs.iter().fold(Box3::EMPTY, |a, r| a.grow(r.centroid()));
@@ -473,12 +492,12 @@ mod tests {
         );
         // Centroids x = 0.5..99.5 in 10 bins of 9.9: bins 0..=2 hold x < 30.2, ids 0..=29.
         assert_eq!(d.left_count, 30);
-        assert!(sorted[..30].iter().all(|r| r.id < 30));
-        assert!(sorted[30..].iter().all(|r| r.id >= 30));
+        assert!(sorted[..30].iter().all(|r| r.id() < 30));
+        assert!(sorted[30..].iter().all(|r| r.id() >= 30));
         assert_eq!(d.children[0].0.max.x, 30.0);
         assert_eq!(d.children[1].0.min.x, 30.0);
         assert_eq!(d.children[1].1.max.x, 99.5);
-        let mut ids: Vec<u32> = sorted.iter().map(|r| r.id).collect();
+        let mut ids: Vec<u32> = sorted.iter().map(PrimRef::id).collect();
         ids.sort();
         assert_eq!(ids, (0..100).collect::<Vec<_>>());
     }
