@@ -8,6 +8,12 @@
 #
 #   scripts/fuzz.sh SECONDS [TARGET...]     (default: every target)
 #
+# FUZZ_TIMEOUT (seconds, default 1) is libFuzzer's per-input limit. It counts
+# wall-clock time, so on a machine busy with other work a niced fuzzer can be
+# starved past 1 s on an input that takes milliseconds: give it more there, and
+# replay the corpus on a quiet machine with the 1 s limit afterwards
+# (scripts/fuzz.sh 0 replays each target's corpus once and runs nothing new).
+#
 # Corpora: fuzz/corpus/TARGET (git-ignored, grows from run to run) on top of
 # the seeds: fuzz/seeds/ (committed), scenes/ and tests/data/.
 # Reproduce a crash: fuzz/target/x86_64-unknown-linux-gnu/release/TARGET FILE
@@ -75,11 +81,15 @@ for target in "${targets[@]}"; do
     before=$(find "$artifacts" -type f | wc -l)
     bin=$(realpath "$bin_dir/$target")
     # -jobs=1 -workers=1: one fuzzing process, whose output goes to fuzz-0.log.
+    # SECONDS 0: -runs=0 executes the corpus once (libFuzzer reads
+    # -max_total_time=0 as no limit at all).
+    duration=-max_total_time="$seconds"
+    [[ $seconds -eq 0 ]] && duration=-runs=0
     (
         cd "$work/$target"
         nice -n 19 "$bin" "$OLDPWD/$corpus" "${seed_dirs[@]/#fuzz/$OLDPWD/fuzz}" \
-            -max_total_time="$seconds" -max_len="${max_len[$target]}" \
-            -rss_limit_mb=1024 -malloc_limit_mb=1024 -timeout=1 \
+            "$duration" -max_len="${max_len[$target]}" \
+            -rss_limit_mb=1024 -malloc_limit_mb=1024 -timeout="${FUZZ_TIMEOUT:-1}" \
             -jobs=1 -workers=1 -print_final_stats=1 \
             -artifact_prefix="$OLDPWD/$artifacts/" >/dev/null 2>&1
     ) || true
