@@ -209,22 +209,6 @@ impl LeafPrim {
         Self { shape, id }
     }
 
-    /// The triangle's constants and index, for a [`TriangleBlock`]; None for other shapes.
-    pub fn triangle_lane(&self) -> Option<(ProjectedTriangle, u32)> {
-        match self.shape {
-            LeafShape::Triangle(t) => Some((t, self.id)),
-            _ => None,
-        }
-    }
-
-    /// The sphere and index, for a [`SphereBlock`]; None for other shapes.
-    pub fn sphere_lane(&self) -> Option<(Sphere, u32)> {
-        match self.shape {
-            LeafShape::Sphere(s) => Some((s, self.id)),
-            _ => None,
-        }
-    }
-
     /// Index in the input slice.
     pub fn id(&self) -> u32 {
         self.id

@@ -66,6 +66,8 @@ fn prefetch_line(p: *const u8) {
     let _ = p;
 }
 
+use rayon::prelude::*;
+
 use crate::accel::Accel;
 use crate::accel::stats::{AccelWithStats, CountedAccel, Counter, NoStats};
 use crate::bounds::Aabb;
@@ -128,6 +130,33 @@ pub struct BvhInfo {
     pub bytes: usize,
 }
 
+/// What a leaf holds, which decides how it is stored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Holds {
+    /// Triangles only: [`TriangleBlock`]s.
+    Triangles,
+    /// Spheres only: [`SphereBlock`]s.
+    Spheres,
+    /// Anything else: [`LeafPrim`] records.
+    Mixed,
+}
+
+impl Holds {
+    /// What the leaf of `prims` (not empty) holds.
+    fn of<'a>(mut prims: impl Iterator<Item = &'a Primitive>) -> Self {
+        let first = match prims.next() {
+            Some(Primitive::Triangle(_)) => Holds::Triangles,
+            Some(Primitive::Sphere(_)) => Holds::Spheres,
+            _ => return Holds::Mixed,
+        };
+        let same = |p: &Primitive| match first {
+            Holds::Triangles => matches!(p, Primitive::Triangle(_)),
+            _ => matches!(p, Primitive::Sphere(_)),
+        };
+        if prims.all(same) { first } else { Holds::Mixed }
+    }
+}
+
 impl Bvh {
     /// Build over `prims` with the default [`BuildOptions`].
     pub fn new(prims: &[Primitive]) -> Self {
@@ -161,53 +190,90 @@ impl Bvh {
         // Store each leaf's primitives, in build order: as triangle or sphere
         // blocks if they are all triangles or all spheres, else as records; the
         // leaf nodes then point there.
-        let (mut leaf_prims, mut others) = (Vec::new(), Vec::new());
-        let (mut triangle_blocks, mut sphere_blocks) = (Vec::new(), Vec::new());
         let mut leaves: Vec<&mut Node> = pairs
             .iter_mut()
             .flat_map(|pair| &mut pair.0)
             .filter(|n| n.is_leaf() && n.meta != 0)
             .collect();
         leaves.sort_unstable_by_key(|n| n.first);
-        for node in leaves {
-            let LeafRef::Prims(range) = node.contents() else {
-                unreachable!("the build makes leaves of primitive ranges")
+        let input = |k: &u32| {
+            let id = bounded_ids[*k as usize];
+            (&prims[id as usize], id)
+        };
+        let range_of = |node: &Node| match node.contents() {
+            LeafRef::Prims(range) => range,
+            _ => unreachable!("the build makes leaves of primitive ranges"),
+        };
+        // What each leaf holds, in parallel: the primitives are read in leaf
+        // order, far from their input order, so this mostly waits on memory.
+        let holds: Vec<Holds> = leaves
+            .par_iter()
+            .map(|node| Holds::of(order[range_of(node)].iter().map(|k| input(k).0)))
+            .collect();
+        // Lay the blocks out leaf by leaf, each block a run of leaf primitives.
+        let (mut leaf_prims, mut others) = (Vec::new(), Vec::new());
+        let (mut triangle_runs, mut sphere_runs) = (Vec::new(), Vec::new());
+        for (node, holds) in leaves.iter_mut().zip(holds) {
+            let range = range_of(node);
+            let count = range.len();
+            let runs = || {
+                range
+                    .clone()
+                    .step_by(BLOCK_SIZE)
+                    .map(move |start| start..(start + BLOCK_SIZE).min(range.end))
             };
-            let records: Vec<LeafPrim> = order[range]
-                .iter()
-                .map(|&k| {
-                    let id = bounded_ids[k as usize];
-                    LeafPrim::new(&prims[id as usize], id, &mut others)
-                })
-                .collect();
-            let triangles: Option<Vec<_>> = records.iter().map(LeafPrim::triangle_lane).collect();
-            let spheres: Option<Vec<_>> = records.iter().map(LeafPrim::sphere_lane).collect();
-            let count = records.len();
-            let leaf = match (triangles, spheres) {
-                (Some(triangles), _) => {
-                    let at = triangle_blocks.len();
-                    triangle_blocks.extend(triangles.chunks(BLOCK_SIZE).map(TriangleBlock::new));
+            let leaf = match holds {
+                Holds::Triangles => {
+                    let at = triangle_runs.len();
+                    triangle_runs.extend(runs());
                     LeafRef::Triangles {
-                        blocks: at..triangle_blocks.len(),
+                        blocks: at..triangle_runs.len(),
                         count,
                     }
                 }
-                (None, Some(spheres)) => {
-                    let at = sphere_blocks.len();
-                    sphere_blocks.extend(spheres.chunks(BLOCK_SIZE).map(SphereBlock::new));
+                Holds::Spheres => {
+                    let at = sphere_runs.len();
+                    sphere_runs.extend(runs());
                     LeafRef::Spheres {
-                        blocks: at..sphere_blocks.len(),
+                        blocks: at..sphere_runs.len(),
                         count,
                     }
                 }
-                (None, None) => {
+                Holds::Mixed => {
                     let at = leaf_prims.len();
-                    leaf_prims.extend(records);
+                    for k in &order[range] {
+                        let (prim, id) = input(k);
+                        leaf_prims.push(LeafPrim::new(prim, id, &mut others));
+                    }
                     LeafRef::Prims(at..leaf_prims.len())
                 }
             };
             (node.first, node.meta) = leaf.encode();
         }
+        // Fill the blocks in parallel, in place (an indexed collect).
+        let triangle_blocks: Vec<TriangleBlock> = triangle_runs
+            .par_iter()
+            .map(|run| {
+                // A block's lanes on the stack (the last repeated into unused slots).
+                let lanes: [_; BLOCK_SIZE] =
+                    std::array::from_fn(|i| match input(&order[run.start + i.min(run.len() - 1)]) {
+                        (Primitive::Triangle(t), id) => (*t.projected(), id),
+                        _ => unreachable!("a triangle leaf holds triangles"),
+                    });
+                TriangleBlock::new(&lanes[..run.len()])
+            })
+            .collect();
+        let sphere_blocks: Vec<SphereBlock> = sphere_runs
+            .par_iter()
+            .map(|run| {
+                let lanes: [_; BLOCK_SIZE] =
+                    std::array::from_fn(|i| match input(&order[run.start + i.min(run.len() - 1)]) {
+                        (Primitive::Sphere(s), id) => (*s, id),
+                        _ => unreachable!("a sphere leaf holds spheres"),
+                    });
+                SphereBlock::new(&lanes[..run.len()])
+            })
+            .collect();
         let mut bvh = Self {
             pairs,
             wide: Vec::new(),
