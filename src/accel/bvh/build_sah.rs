@@ -23,6 +23,7 @@
 //! depth by [`MAX_DEPTH`].
 
 use glam::{Vec3, Vec3A, Vec4};
+use rayon::prelude::*;
 
 use crate::accel::bvh::leaf::BLOCK_SIZE;
 use crate::accel::bvh::node::{Node, NodePair};
@@ -95,12 +96,20 @@ pub fn build(boxes: &[Aabb], options: &BuildOptions) -> Built {
         block: options.block_size.max(1),
     };
     let mut refs: Vec<PrimRef> = boxes
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, b)| PrimRef::new(Box3::new(b.min.into(), b.max.into()), i as u32))
         .collect();
-    let bounds = refs.iter().fold(Box3::EMPTY, |a, r| a.union(&r.bounds()));
-    let centroids = refs.iter().fold(Box3::EMPTY, |a, r| a.grow(r.centroid()));
+    let (bounds, centroids) = refs
+        .par_iter()
+        .fold(
+            || (Box3::EMPTY, Box3::EMPTY),
+            |(b, c), r| (b.union(&r.bounds()), c.grow(r.centroid())),
+        )
+        .reduce(
+            || (Box3::EMPTY, Box3::EMPTY),
+            |(b1, c1), (b2, c2)| (b1.union(&b2), c1.union(&c2)),
+        );
     let tree = ctx.subtree(&mut refs, 0, bounds, centroids, 0);
     // Flatten depth first: a node's children pair, then the left subtree, then the right.
     let mut pairs = vec![NodePair([Node::EMPTY; 2])];

@@ -165,12 +165,19 @@ impl Bvh {
 
     /// Build over `prims`; a hit's primitive index is the position in `prims`.
     pub fn with_options(prims: &[Primitive], options: &BuildOptions) -> Self {
+        // The primitives' boxes, in parallel; then sort them into the tree's,
+        // the unbounded and the skipped.
+        let usable = |b: Aabb| b.min.is_finite() && b.max.is_finite() && !b.is_empty();
+        let all_boxes: Vec<Option<Aabb>> = prims
+            .par_iter()
+            .map(|p| p.bounds().filter(|b| usable(*b)))
+            .collect();
         let mut boxes = Vec::with_capacity(prims.len());
         let mut bounded_ids = Vec::with_capacity(prims.len());
         let (mut unbounded, mut unbounded_ids, mut skipped) = (Vec::new(), Vec::new(), 0);
-        for (i, p) in prims.iter().enumerate() {
-            match p.bounds() {
-                Some(b) if b.min.is_finite() && b.max.is_finite() && !b.is_empty() => {
+        for (i, (p, b)) in prims.iter().zip(all_boxes).enumerate() {
+            match b {
+                Some(b) => {
                     boxes.push(b);
                     bounded_ids.push(i as u32);
                 }
