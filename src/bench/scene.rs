@@ -8,20 +8,23 @@
 //! The other kinds are traced as `bench traversal` traces them: one by one
 //! for the scalar kernel, in their 8-ray packets for the packet kernel.
 //! The variants are interleaved run by run after one warm-up each, so drift of
-//! a shared machine hits them alike; the best run is kept (and the median
-//! reported beside it).
+//! a shared machine hits them alike; every run's time is kept, so that each
+//! variant's figure is a median with its interval and the ratio of two
+//! variants is taken run by run ([`Summary::paired_ratio`]).
 
 use std::time::Instant;
 
 use crate::accel::Accel;
 use crate::accel::stats::{NoStats, Uncounted};
 use crate::bench::rays::RaySet;
+use crate::bench::slowdown::Slowdown;
 use crate::bench::traversal::{trace_packets, trace_single};
 use crate::camera::Camera;
 use crate::render::kernel::TraceKernel;
 use crate::render::tiles::{self, Tile};
 use crate::render::whitted::lanes;
 use crate::render::{Block, Grid, KernelKind, Packet8Kernel, Sampling, ScalarKernel, for_each_block};
+use crate::statistics::Summary;
 
 /// A kernel, pixel block and thread count to measure. 16 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,15 +37,14 @@ pub struct Variant {
     pub threads: usize,
 }
 
-/// The timing of one variant. 48 bytes.
-#[derive(Clone, Copy, Debug)]
+/// The timing of one variant. 56 bytes plus 8 per run.
+#[derive(Clone, Debug)]
 pub struct Timing {
     /// What was measured.
     pub variant: Variant,
-    /// Fastest run, seconds.
-    pub best_seconds: f64,
-    /// Median run, seconds.
-    pub median_seconds: f64,
+    /// Each run's time, seconds, in the order run (run `i` of every variant
+    /// was timed in the same round).
+    pub seconds: Vec<f64>,
     /// Rays per run.
     pub rays: u64,
     /// Rays that hit something (the same for every variant).
@@ -50,9 +52,15 @@ pub struct Timing {
 }
 
 impl Timing {
-    /// Million rays per second of the best run.
-    pub fn mrays_per_s(&self) -> f64 {
-        self.rays as f64 / self.best_seconds / 1e6
+    /// Million rays per second of each run.
+    pub fn mrays(&self) -> Vec<f64> {
+        self.seconds.iter().map(|s| self.rays as f64 / s / 1e6).collect()
+    }
+
+    /// The summary of [`mrays`](Self::mrays).
+    pub fn mrays_per_s(&self) -> Summary {
+        // Times are positive (a run takes time) and there is at least one run.
+        Summary::of(&self.mrays()).expect("positive run times")
     }
 }
 
@@ -114,7 +122,8 @@ impl PrimaryFrame {
     }
 }
 
-/// Measure every variant `runs` times (interleaved, after a warm-up each).
+/// Measure every variant `runs` times (interleaved, after a warm-up each),
+/// times passed through the bench timing hook `slowdown`.
 /// Fails if two variants disagree on the number of hits, which would mean the
 /// kernels do not trace the same scene.
 pub fn measure<A: Accel>(
@@ -122,8 +131,9 @@ pub fn measure<A: Accel>(
     frame: &PrimaryFrame,
     variants: &[Variant],
     runs: usize,
+    slowdown: &Slowdown,
 ) -> Result<Vec<Timing>, String> {
-    interleave(variants, runs, frame.rays(), |v, pool| {
+    interleave(variants, runs, slowdown, frame.rays(), |v, pool| {
         frame.trace(accel, v.kernel, v.block, pool)
     })
 }
@@ -137,6 +147,7 @@ pub fn measure_set<A: Accel>(
     set: &RaySet,
     variants: &[Variant],
     runs: usize,
+    slowdown: &Slowdown,
 ) -> Result<Vec<Timing>, String> {
     if let Some(v) = variants.iter().find(|v| v.block != Block::B4x2) {
         return Err(format!(
@@ -144,7 +155,7 @@ pub fn measure_set<A: Accel>(
             set.kind.name()
         ));
     }
-    interleave(variants, runs, set.rays.len() as u64, |v, pool| {
+    interleave(variants, runs, slowdown, set.rays.len() as u64, |v, pool| {
         pool.install(|| match v.kernel {
             KernelKind::Scalar => trace_single(accel, set),
             KernelKind::Packet8 => trace_packets(accel, set),
@@ -157,6 +168,7 @@ pub fn measure_set<A: Accel>(
 fn interleave(
     variants: &[Variant],
     runs: usize,
+    slowdown: &Slowdown,
     rays: u64,
     trace: impl Fn(&Variant, &rayon::ThreadPool) -> u64,
 ) -> Result<Vec<Timing>, String> {
@@ -184,22 +196,18 @@ fn interleave(
         for (k, v) in variants.iter().enumerate() {
             let start = Instant::now();
             std::hint::black_box(trace(v, &pools[k]));
-            samples[k].push(start.elapsed().as_secs_f64());
+            samples[k].push(slowdown.apply(v.kernel.name(), start.elapsed().as_secs_f64()));
         }
     }
     Ok(variants
         .iter()
         .zip(samples)
         .zip(hits)
-        .map(|((&variant, mut s), hits)| {
-            s.sort_by(f64::total_cmp);
-            Timing {
-                variant,
-                best_seconds: s[0],
-                median_seconds: s[s.len() / 2],
-                rays,
-                hits,
-            }
+        .map(|((&variant, seconds), hits)| Timing {
+            variant,
+            seconds,
+            rays,
+            hits,
         })
         .collect())
 }
