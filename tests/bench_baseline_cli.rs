@@ -86,11 +86,13 @@ fn an_unchanged_build_shows_no_significant_change_and_a_slowed_variant_shows_as_
         "figures unchanged per run: {attempts:?} of 40"
     );
 
-    // The hook triples the time of every packet8 sample.
+    // The hook makes every packet8 sample ten times as long: a change no load
+    // burst of a shared machine imitates (three times was reported as slower
+    // too, except while a release build ran beside the test: -21% [-40%, +89%]).
     let slowed = json(&raypack_in(
         &dir,
         &[&KERNELS[..], &["--json", "--baseline", "before"]].concat(),
-        &[("RAYPACK_TEST_SLOWDOWN", "packet8:3")],
+        &[("RAYPACK_TEST_SLOWDOWN", "packet8:10")],
     ));
     let changes = slowed["comparison"]["changes"].as_array().unwrap();
     let packet8: Vec<&serde_json::Value> = changes
@@ -106,7 +108,7 @@ fn an_unchanged_build_shows_no_significant_change_and_a_slowed_variant_shows_as_
     let text = raypack_in(
         &dir,
         &[&KERNELS[..], &["--baseline", "before"]].concat(),
-        &[("RAYPACK_TEST_SLOWDOWN", "packet8:3")],
+        &[("RAYPACK_TEST_SLOWDOWN", "packet8:10")],
     );
     assert!(text.status.success(), "{}", stderr(&text));
     let text = String::from_utf8(text.stdout).unwrap();

@@ -7,7 +7,7 @@ use clap::Args;
 
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
-use crate::bench::scene::{PrimaryFrame, Timing, Variant, measure, measure_set};
+use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
 use crate::bench::slowdown::Slowdown;
 use crate::bench::traversal::scene_bounds;
 use crate::cli::args::{load_scene, parse_size, scene_camera};
@@ -15,6 +15,7 @@ use crate::cli::bench::{Output, Run, figure};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, KernelKind};
+use crate::scene::Scene;
 use crate::statistics::{StatsError, Summary};
 
 /// Options of `bench scene`.
@@ -137,32 +138,89 @@ impl SceneRow {
     }
 }
 
-struct SceneJob<'a> {
+/// What `bench scene` measures: per ray kind, every variant on every engine.
+struct Plan<'a> {
     /// The primary rays, if measured.
     frame: Option<&'a PrimaryFrame>,
     variants: &'a [Variant],
     /// The other ray kinds, and their variants (4×2 blocks).
     sets: &'a [RaySet],
     set_variants: &'a [Variant],
-    runs: u32,
+    runs: usize,
     slowdown: &'a Slowdown,
 }
 
-impl WithAccel for SceneJob<'_> {
-    type Output = Result<(Vec<(RayKind, Timing)>, f64), String>;
+/// Builds one engine's units for some rays and variants, as its number.
+type UnitsOf<'x> = dyn Fn(Rays<'x>, &[Variant], usize) -> Result<Vec<Unit<'x>>, String> + 'x;
 
-    fn run<A: crate::accel::Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
-        let runs = self.runs as usize;
-        let mut timings = Vec::new();
+/// Each measurement: engine number, ray kind, timing; and each engine's build time.
+type Measurements = (Vec<(usize, RayKind, Timing)>, Vec<f64>);
+
+impl Plan<'_> {
+    /// Per ray kind, the variants of every engine of `engines` interleaved in one set of rounds.
+    fn measure<'x>(&'x self, engines: &[&UnitsOf<'x>]) -> Result<Vec<(usize, RayKind, Timing)>, String> {
+        let mut kinds: Vec<(RayKind, Rays<'x>, &[Variant])> = Vec::new();
         if let Some(frame) = self.frame {
-            let primary = measure(accel, frame, self.variants, runs, self.slowdown)?;
-            timings.extend(primary.into_iter().map(|t| (RayKind::Primary, t)));
+            kinds.push((RayKind::Primary, Rays::Primary(frame), self.variants));
         }
-        for set in self.sets {
-            let measured = measure_set(accel, set, self.set_variants, runs, self.slowdown)?;
-            timings.extend(measured.into_iter().map(|t| (set.kind, t)));
+        kinds.extend(
+            self.sets
+                .iter()
+                .map(|s| (s.kind, Rays::Set(s), self.set_variants)),
+        );
+        let mut out = Vec::new();
+        for (kind, rays, variants) in kinds {
+            let mut all = Vec::new();
+            for (e, units_of) in engines.iter().enumerate() {
+                all.extend(units_of(rays, variants, e)?);
+            }
+            let timings = interleave(&all, self.runs, self.slowdown, rays.count())?;
+            out.extend(all.iter().zip(timings).map(|(u, t)| (u.engine, kind, t)));
         }
-        Ok((timings, setup_seconds))
+        Ok(out)
+    }
+}
+
+/// The first engine's structure: measured alone, or handed on to build the second's.
+struct FirstEngine<'a> {
+    plan: &'a Plan<'a>,
+    scene: &'a Scene,
+    second: Option<Engine>,
+    accel: AccelKind,
+}
+
+impl WithAccel for FirstEngine<'_> {
+    type Output = anyhow::Result<Result<Measurements, String>>;
+
+    fn run<A: crate::accel::Accel>(self, a: &A, setup_seconds: f64) -> Self::Output {
+        let Some(second) = self.second else {
+            let of_a = |r, v: &[Variant], e| units(a, r, v, e);
+            return Ok(self.plan.measure(&[&of_a]).map(|m| (m, vec![setup_seconds])));
+        };
+        let job = SecondEngine {
+            plan: self.plan,
+            first: a,
+            first_setup: setup_seconds,
+        };
+        with_engine(self.scene, second, self.accel, job)
+    }
+}
+
+/// The second engine's structure, measured interleaved with the first's.
+struct SecondEngine<'a, A> {
+    plan: &'a Plan<'a>,
+    first: &'a A,
+    first_setup: f64,
+}
+
+impl<A: crate::accel::Accel> WithAccel for SecondEngine<'_, A> {
+    type Output = Result<Measurements, String>;
+
+    fn run<B: crate::accel::Accel>(self, b: &B, setup_seconds: f64) -> Self::Output {
+        let of_a = |r, v: &[Variant], e| units(self.first, r, v, e);
+        let of_b = |r, v: &[Variant], e| units(b, r, v, e);
+        let measured = self.plan.measure(&[&of_a, &of_b])?;
+        Ok((measured, vec![self.first_setup, setup_seconds]))
     }
 }
 
@@ -220,27 +278,41 @@ pub fn run(args: SceneArgs) -> CliResult {
     }
     let name = args.scene.file_name().unwrap_or(args.scene.as_os_str());
     let name = name.to_string_lossy().into_owned();
-    let mut measured: Vec<Measured> = Vec::new();
+    let plan = Plan {
+        frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
+        variants: &variants,
+        sets: &sets,
+        set_variants: &set_variants,
+        runs: args.runs as usize,
+        slowdown: &run.slowdown,
+    };
+    // Every engine's structure is built first, so that their variants interleave.
+    let mut engines: Vec<Engine> = Vec::new();
     for &engine in &args.engine {
-        let job = SceneJob {
-            frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
-            variants: &variants,
-            sets: &sets,
-            set_variants: &set_variants,
-            runs: args.runs,
-            slowdown: &run.slowdown,
-        };
-        let (timings, setup_seconds) = with_engine(&scene, engine, args.accel, job)
-            .map_err(CliError::BadInput)?
-            .map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
-        measured.extend(timings.into_iter().map(|(kind, timing)| Measured {
-            engine,
+        if !engines.contains(&engine) {
+            engines.push(engine);
+        }
+    }
+    let job = FirstEngine {
+        plan: &plan,
+        scene: &scene,
+        second: engines.get(1).copied(),
+        accel: args.accel,
+    };
+    let (timings, setup_seconds) = with_engine(&scene, engines[0], args.accel, job)
+        .and_then(|inner| inner)
+        .map_err(CliError::BadInput)?
+        .map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
+    let measured: Vec<Measured> = timings
+        .into_iter()
+        .map(|(e, kind, timing)| Measured {
+            engine: engines[e],
             kind,
             mrays: timing.mrays(),
             timing,
-            setup_seconds,
-        }));
-    }
+            setup_seconds: setup_seconds[e],
+        })
+        .collect();
     let rows = measured
         .iter()
         .map(|m| {
@@ -307,9 +379,9 @@ struct Measured {
 /// The ratios of `m` within its ray kind, from runs paired round by round:
 /// over the kind's first variant, over the fewest threads of the same
 /// variant, and (raypack) over Embree on the same kernel, block and threads.
-/// The first two are over `m` itself at the latest. Engines are measured
-/// one after the other, so raypack/Embree pairs run `i` of one with run `i`
-/// of the other.
+/// The first two are over `m` itself at the latest. Every engine's variants
+/// are interleaved in the same rounds, so run `i` of one pairs with run `i` of
+/// another.
 fn ratios(m: &Measured, all: &[Measured]) -> Result<(Summary, Summary, Option<Summary>), StatsError> {
     let v = m.timing.variant;
     let same_kind = || all.iter().filter(|o| o.kind == m.kind);
