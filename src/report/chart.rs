@@ -61,6 +61,7 @@ pub fn interval_bars(title: &str, unit: &str, bars: &[Bar]) -> Result<String, Re
                     .map_or(String::new(), |b| b.label.clone()),
                 _ => String::new(),
             })
+            .x_label_formatter(&|v| compact(*v))
             .x_desc(unit)
             .label_style(("sans-serif", 13))
             .draw()
@@ -97,9 +98,55 @@ pub fn interval_bars(title: &str, unit: &str, bars: &[Bar]) -> Result<String, Re
     Ok(svg)
 }
 
+/// An axis value in few characters: `2.5G`, `340M`, `12k`, `0.75`.
+pub fn compact(v: f64) -> String {
+    let a = v.abs();
+    let (scaled, suffix) = if a >= 1e9 {
+        (v / 1e9, "G")
+    } else if a >= 1e6 {
+        (v / 1e6, "M")
+    } else if a >= 1e4 {
+        (v / 1e3, "k")
+    } else {
+        (v, "")
+    };
+    // Up to three significant digits, without trailing zeros.
+    let digits = if scaled.abs() >= 100.0 {
+        0
+    } else if scaled.abs() >= 10.0 {
+        1
+    } else {
+        2
+    };
+    let text = format!("{scaled:.digits$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &text
+    };
+    format!("{text}{suffix}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn compact_axis_values() {
+        let cases = [
+            (0.0, "0"),
+            (0.75, "0.75"),
+            (1.5, "1.5"),
+            (12.0, "12"),
+            (2500.0, "2500"),
+            (12_000.0, "12k"),
+            (340e6, "340M"),
+            (2.5e9, "2.5G"),
+        ];
+        for (v, text) in cases {
+            assert_eq!(compact(v), text, "{v}");
+        }
+    }
 
     #[test]
     fn draws_a_bar_and_a_whisker_per_figure() {

@@ -4,6 +4,7 @@
 use plotters::prelude::*;
 
 use crate::report::ReportError;
+use crate::report::chart::compact;
 use crate::statistics::Summary;
 
 /// One variant's figures over thread counts.
@@ -51,6 +52,7 @@ pub fn thread_scaling(title: &str, unit: &str, lines: &[Line]) -> Result<String,
             })
             .light_line_style(TRANSPARENT)
             .x_desc("threads")
+            .y_label_formatter(&|v| compact(*v))
             .y_desc(unit)
             .label_style(("sans-serif", 13))
             .draw()
