@@ -23,7 +23,8 @@ if [ -z "${RAYPACK:-}" ]; then
     fi
 fi
 if [ -z "${ENGINES:-}" ]; then
-    if "$RAYPACK" env | grep -q '^features .*embree'; then
+    # The whole output first: grep -q would close the pipe on the first match.
+    if grep -q '^features .*embree' <<< "$("$RAYPACK" env)"; then
         ENGINES=raypack,embree
     else
         ENGINES=raypack
@@ -53,7 +54,8 @@ fi
 
 "$RAYPACK" report docs/results/*.json -o docs/report.html
 echo "wrote docs/report.html" >&2
+# Chromium writes PNG only to a name ending in .png.
 chromium --headless --disable-gpu --no-sandbox --hide-scrollbars --window-size=1200,2400 \
-    --screenshot="$PWD/docs/report.png.tmp" "file://$PWD/docs/report.html" 2> /dev/null
-mv docs/report.png.tmp docs/report.png
+    --screenshot="$PWD/docs/report.tmp.png" "file://$PWD/docs/report.html" 2> /dev/null
+mv docs/report.tmp.png docs/report.png
 echo "wrote docs/report.png" >&2
