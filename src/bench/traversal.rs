@@ -290,6 +290,7 @@ impl TraversalRow {
         let labels = |extra: &[(&'static str, String)]| -> Vec<(&'static str, String)> {
             let mut l = vec![
                 ("scene", self.scene.clone()),
+                ("primitives", self.primitives.to_string()),
                 ("engine", self.engine.name().to_string()),
                 ("threads", self.threads.to_string()),
             ];

@@ -4,13 +4,14 @@
 //! as data URIs, so the page loads nothing from anywhere.
 //!
 //! [`page`] lays the page out; [`chart`] draws a figure group's medians as bars
-//! with their 95% intervals; [`scaling`] draws throughput over thread counts;
+//! with their 95% intervals; [`lines`] draws figures over thread counts or
+//! scene sizes;
 //! [`html`] escapes text and inlines images.
 
 pub mod chart;
 pub mod html;
+pub mod lines;
 pub mod page;
-pub mod scaling;
 
 /// Why a page could not be made.
 #[derive(Debug, thiserror::Error)]

@@ -1,7 +1,8 @@
 //! The report page: per result file, its environment, a chart per group of
 //! figures (one figure name and unit, one scene), thread scaling where more
-//! than one thread count was measured, and the comparison with a baseline
-//! when the run made one.
+//! than one thread count was measured, growth over scene sizes where scenes
+//! of several sizes were, and the comparison with a baseline when the run
+//! made one.
 
 use std::fmt::Write as _;
 
@@ -11,7 +12,7 @@ use crate::bench::result::StoredResult;
 use crate::report::ReportError;
 use crate::report::chart::{Bar, interval_bars};
 use crate::report::html::{escape, svg_image};
-use crate::report::scaling::{Line, thread_scaling};
+use crate::report::lines::{Line, XAxis, over};
 
 /// A result file to report.
 #[derive(Debug, Clone)]
@@ -25,8 +26,27 @@ pub struct Input {
 /// The order labels are read in a bar's label; others follow by name.
 const LABEL_ORDER: [&str; 6] = ["primitive", "rays", "engine", "kernel", "block", "threads"];
 
-/// The labels that make a chart of their own rather than a bar of one.
-const CHART_LABELS: [&str; 1] = ["scene"];
+/// The labels that make a chart of their own rather than a bar of one (a
+/// scene's size goes with the scene).
+const CHART_LABELS: [&str; 2] = ["scene", "primitives"];
+
+/// Throughput over thread counts, a chart per scene.
+const SCALING: Curves = Curves {
+    x: XAxis {
+        name: "threads",
+        log: false,
+    },
+    per: &["scene"],
+};
+
+/// Throughput over scene sizes, a chart per ray kind and thread count.
+const GROWTH: Curves = Curves {
+    x: XAxis {
+        name: "primitives",
+        log: true,
+    },
+    per: &["rays", "threads"],
+};
 
 const STYLE: &str = "body{font-family:sans-serif;max-width:1000px;margin:1em auto;color:#222}\
 h1{font-size:1.6em}h2{font-size:1.3em;border-bottom:1px solid #ccc;margin-top:2em}\
@@ -95,16 +115,18 @@ fn section(out: &mut String, input: &Input) -> Result<(), ReportError> {
         out.push_str(&svg_image(&svg, &title));
         out.push('\n');
     }
-    for (scene, lines) in scaling(&r.figures) {
-        let title = format!("throughput over threads, {scene}");
-        let unit = r
-            .figures
-            .iter()
-            .find(|f| f.name == "throughput")
-            .map_or("", |f| &f.unit);
-        let svg = thread_scaling(&title, unit, &lines)?;
-        out.push_str(&svg_image(&svg, &title));
-        out.push('\n');
+    let unit = r
+        .figures
+        .iter()
+        .find(|f| f.name == "throughput")
+        .map_or("", |f| &f.unit);
+    for curves in [SCALING, GROWTH] {
+        for (chart, lines) in curves.lines(&r.figures) {
+            let title = format!("throughput over {}, {chart}", curves.x.name);
+            let svg = over(&title, curves.x, unit, &lines)?;
+            out.push_str(&svg_image(&svg, &title));
+            out.push('\n');
+        }
     }
     if let Some(c) = &r.comparison {
         comparison(out, c);
@@ -131,7 +153,7 @@ fn groups(figures: &[Figure]) -> Vec<Vec<&Figure>> {
 }
 
 /// A figure's label on its bar or line: its labels but the chart's and `skip`.
-fn bar_label(f: &Figure, skip: &str) -> String {
+fn bar_label(f: &Figure, skip: &[&str]) -> String {
     let ordered = LABEL_ORDER.iter().copied().chain(
         f.labels
             .keys()
@@ -139,17 +161,20 @@ fn bar_label(f: &Figure, skip: &str) -> String {
             .filter(|k| !LABEL_ORDER.contains(k)),
     );
     ordered
-        .filter(|k| !CHART_LABELS.contains(k) && *k != skip)
-        .filter_map(|k| {
-            let v = f.labels.get(k)?;
-            Some(if k == "threads" {
-                format!("{v}t")
-            } else {
-                v.clone()
-            })
-        })
+        .filter(|k| !CHART_LABELS.contains(k) && !skip.contains(k))
+        .map(|k| bar_label_of(f, k))
+        .filter(|v| !v.is_empty())
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// The label `name` of `f` as a bar shows it (`2t` for two threads), or "".
+fn bar_label_of(f: &Figure, name: &str) -> String {
+    match f.labels.get(name) {
+        Some(v) if name == "threads" => format!("{v}t"),
+        Some(v) => v.clone(),
+        None => String::new(),
+    }
 }
 
 /// The bars of a group, coloured by kernel.
@@ -165,7 +190,7 @@ fn bars(group: &[&Figure]) -> Vec<Bar> {
             });
             let mark = if f.summary.noisy { " *" } else { "" };
             Bar {
-                label: format!("{}{mark}", bar_label(f, "")),
+                label: format!("{}{mark}", bar_label(f, &[])),
                 summary: f.summary,
                 colour,
             }
@@ -173,43 +198,56 @@ fn bars(group: &[&Figure]) -> Vec<Bar> {
         .collect()
 }
 
-/// Per scene with more than one thread count: a line per variant of the
-/// throughput figures over their thread counts.
-fn scaling(figures: &[Figure]) -> Vec<(String, Vec<Line>)> {
-    let throughput: Vec<&Figure> = figures
-        .iter()
-        .filter(|f| f.name == "throughput" && !f.label("threads").is_empty())
-        .collect();
-    let mut scenes: Vec<&str> = Vec::new();
-    for f in &throughput {
-        if !scenes.contains(&f.label("scene")) {
-            scenes.push(f.label("scene"));
-        }
-    }
-    scenes
-        .into_iter()
-        .filter_map(|scene| {
-            let mut lines: Vec<Line> = Vec::new();
-            for f in throughput.iter().filter(|f| f.label("scene") == scene) {
-                let Ok(threads) = f.label("threads").parse::<f64>() else {
-                    continue;
-                };
-                let label = bar_label(f, "threads");
-                match lines.iter_mut().find(|l| l.label == label) {
-                    Some(l) => l.points.push((threads, f.summary)),
-                    None => lines.push(Line {
-                        label,
-                        points: vec![(threads, f.summary)],
-                    }),
+/// Throughput figures as lines over a numeric label: a chart per value of
+/// the `per` labels, a line per variant (the other labels but the scene).
+#[derive(Clone, Copy)]
+struct Curves {
+    x: XAxis<'static>,
+    per: &'static [&'static str],
+}
+
+impl Curves {
+    /// The charts, each named by its `per` labels, with their lines of two
+    /// points or more (a chart only where some line has them).
+    fn lines(&self, figures: &[Figure]) -> Vec<(String, Vec<Line>)> {
+        let x = self.x.name;
+        let mut charts: Vec<(String, Vec<Line>)> = Vec::new();
+        for f in figures.iter().filter(|f| f.name == "throughput") {
+            let Ok(value) = f.label(x).parse::<f64>() else {
+                continue;
+            };
+            let chart = self
+                .per
+                .iter()
+                .map(|l| bar_label_of(f, l))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let line = bar_label(f, &[&[x], self.per].concat());
+            let at = match charts.iter().position(|(c, _)| *c == chart) {
+                Some(at) => at,
+                None => {
+                    charts.push((chart, Vec::new()));
+                    charts.len() - 1
                 }
+            };
+            let lines = &mut charts[at].1;
+            match lines.iter_mut().find(|l| l.label == line) {
+                Some(l) => l.points.push((value, f.summary)),
+                None => lines.push(Line {
+                    label: line,
+                    points: vec![(value, f.summary)],
+                }),
             }
+        }
+        for (_, lines) in &mut charts {
             lines.retain(|l| l.points.len() > 1);
-            for l in &mut lines {
+            for l in lines.iter_mut() {
                 l.points.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
-            (!lines.is_empty()).then(|| (scene.to_string(), lines))
-        })
-        .collect()
+        }
+        charts.retain(|(_, lines)| !lines.is_empty());
+        charts
+    }
 }
 
 /// The comparison with a baseline as a table.
@@ -303,24 +341,51 @@ mod tests {
 
     #[test]
     fn scaling_needs_two_thread_counts() {
-        let mut figures = vec![
+        let at = |threads: &str, m: f64| {
             figure(
                 "throughput",
-                &[("scene", "a"), ("kernel", "scalar"), ("threads", "1")],
-                1.0,
-            ),
-            figure(
-                "throughput",
-                &[("scene", "a"), ("kernel", "scalar"), ("threads", "2")],
-                1.9,
-            ),
-        ];
-        let lines = scaling(&figures);
-        assert_eq!(lines.len(), 1);
-        assert_eq!(lines[0].1[0].label, "scalar");
-        assert_eq!(lines[0].1[0].points.len(), 2);
+                &[("scene", "a"), ("kernel", "scalar"), ("threads", threads)],
+                m,
+            )
+        };
+        let mut figures = vec![at("1", 1.0), at("2", 1.9)];
+        let charts = SCALING.lines(&figures);
+        assert_eq!(charts.len(), 1);
+        assert_eq!(charts[0].0, "a");
+        assert_eq!(charts[0].1[0].label, "scalar");
+        assert_eq!(charts[0].1[0].points.len(), 2);
         figures.pop();
-        assert!(scaling(&figures).is_empty());
+        assert!(SCALING.lines(&figures).is_empty());
+    }
+
+    #[test]
+    fn growth_runs_across_scenes_by_size() {
+        let of = |scene: &str, n: &str, kernel: &str, m: f64| {
+            let labels = [
+                ("scene", scene),
+                ("primitives", n),
+                ("rays", "primary"),
+                ("kernel", kernel),
+                ("threads", "1"),
+            ];
+            figure("throughput", &labels, m)
+        };
+        let figures = [
+            of("mesh-10000", "9800", "single", 4.0),
+            of("mesh-1000", "980", "single", 5.0),
+            of("mesh-1000", "980", "packet8", 6.0),
+        ];
+        let charts = GROWTH.lines(&figures);
+        assert_eq!(charts.len(), 1);
+        let (chart, lines) = &charts[0];
+        assert_eq!(chart, "primary, 1t");
+        // packet8 has one size only: no line.
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0].label, "single");
+        let sizes: Vec<f64> = lines[0].points.iter().map(|p| p.0).collect();
+        assert_eq!(sizes, [980.0, 9800.0]);
+        // The size goes with the scene: bars do not repeat it.
+        assert_eq!(bar_label(&figures[0], &[]), "primary single 1t");
     }
 
     #[test]
