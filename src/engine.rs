@@ -12,6 +12,16 @@ pub enum Engine {
     Embree,
 }
 
+impl Engine {
+    /// The name on the command line and in results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Raypack => "raypack",
+            Self::Embree => "embree",
+        }
+    }
+}
+
 /// How Embree builds its scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]

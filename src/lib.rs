@@ -27,6 +27,7 @@ pub mod picture;
 pub mod plural;
 pub mod ray;
 pub mod render;
+pub mod report;
 pub mod rng;
 pub mod scene;
 pub mod simd;

@@ -182,6 +182,20 @@ impl Summary {
         Self::of(&ratios)
     }
 
+    /// The same summary in another unit: every value times `factor > 0`.
+    pub fn scaled(&self, factor: f64) -> Self {
+        Self {
+            median: self.median * factor,
+            ci_low: self.ci_low * factor,
+            ci_high: self.ci_high * factor,
+            min: self.min * factor,
+            q1: self.q1 * factor,
+            q3: self.q3 * factor,
+            max: self.max * factor,
+            ..*self
+        }
+    }
+
     /// The interval's half-widths relative to the median, `(below, above)`.
     pub fn relative_interval(&self) -> (f64, f64) {
         let m = self.median.abs();
@@ -330,6 +344,17 @@ mod tests {
             Summary::paired_ratio(&[1.0, 1.0], &[1.0, 0.0]),
             Err(StatsError::NotPositive { index: 1, value: 0.0 })
         );
+    }
+
+    #[test]
+    fn scaling_changes_the_unit_only() {
+        let s = Summary::of(&(1..=20).map(f64::from).collect::<Vec<_>>()).unwrap();
+        let k = s.scaled(1e-3);
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        assert!(close(k.median, 10.5e-3) && close(k.ci_low, 6e-3) && close(k.ci_high, 15e-3));
+        assert_eq!((k.samples, k.noisy), (s.samples, s.noisy));
+        let (a, b) = (k.relative_interval(), s.relative_interval());
+        assert!(close(a.0, b.0) && close(a.1, b.1));
     }
 
     #[test]

@@ -9,8 +9,8 @@ use cli_support::{TINY_TRAVERSAL, raypack, scratch, stderr};
 fn traversal_bench_reports_json_rows_of_every_ray_kind() {
     let out = raypack(&[&TINY_TRAVERSAL[..], &["--threads", "1", "--json"]].concat());
     assert!(out.status.success(), "{}", stderr(&out));
-    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
-    let rows = rows.as_array().expect("an array of rows");
+    let result: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let rows = result["rows"].as_array().expect("an array of rows");
     assert_eq!(rows.len(), 2);
     for row in rows {
         assert!(row["scene"].as_str().unwrap().starts_with("mesh-"));
@@ -30,8 +30,9 @@ fn traversal_bench_reports_json_rows_of_every_ray_kind() {
             assert_eq!(k["query"], if any_hit { "any-hit" } else { "nearest" }, "{kind}");
             let rays = k["rays"].as_u64().unwrap();
             assert!(rays > 0 && k["hits"].as_u64().unwrap() <= rays, "{kind}");
-            for key in ["single_mrays", "packet_mrays"] {
-                assert!(k[key].as_f64().unwrap() > 0.0, "{kind} {key}");
+            for key in ["single_mrays", "packet_mrays", "packet_vs_single"] {
+                assert!(k[key]["median"].as_f64().unwrap() > 0.0, "{kind} {key}");
+                assert_eq!(k[key]["samples"].as_u64(), Some(1), "{kind} {key}");
             }
             // Every ray of the kind is counted once by either pass.
             for key in ["single_stats", "packet_stats"] {
@@ -47,16 +48,17 @@ fn traversal_bench_reports_json_rows_of_every_ray_kind() {
         }
     }
     // Time per ray against the first scene: exactly 1 for the first, and a
-    // measured ratio (of the times behind the Mrays/s figures) for the second.
+    // measured ratio (of the times behind the Mrays/s figures: one round, so
+    // the ratio of the two rounds) for the second.
     let (first, second) = (
         rows[0]["kinds"].as_array().unwrap(),
         rows[1]["kinds"].as_array().unwrap(),
     );
     for (a, b) in first.iter().zip(second) {
         for (v, mrays) in ["single_mrays", "packet_mrays"].iter().enumerate() {
-            assert_eq!(a["growth_vs_first"][v].as_f64(), Some(1.0));
-            let from_rates = a[mrays].as_f64().unwrap() / b[mrays].as_f64().unwrap();
-            let g = b["growth_vs_first"][v].as_f64().unwrap();
+            assert_eq!(a["growth_vs_first"][v]["median"].as_f64(), Some(1.0));
+            let from_rates = a[mrays]["median"].as_f64().unwrap() / b[mrays]["median"].as_f64().unwrap();
+            let g = b["growth_vs_first"][v]["median"].as_f64().unwrap();
             assert!(
                 (g / from_rates - 1.0).abs() < 1e-9,
                 "{} {mrays}: {g} vs {from_rates}",
@@ -71,12 +73,15 @@ fn traversal_bench_measures_the_ray_kinds_asked_for() {
     for kind in ["primary", "shadow", "ao", "diffuse", "random"] {
         let out = raypack(&[&TINY_TRAVERSAL[..], &["--rays", kind, "--json"]].concat());
         assert!(out.status.success(), "{kind}: {}", stderr(&out));
-        let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
-        for row in rows.as_array().unwrap() {
+        let result: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+        for row in result["rows"].as_array().unwrap() {
             let kinds = row["kinds"].as_array().unwrap();
             assert_eq!(kinds.len(), 1);
             assert_eq!(kinds[0]["kind"], kind);
-            assert!(kinds[0]["single_mrays"].as_f64().unwrap() > 0.0, "{kind}");
+            assert!(
+                kinds[0]["single_mrays"]["median"].as_f64().unwrap() > 0.0,
+                "{kind}"
+            );
         }
     }
     let out = raypack(&[&TINY_TRAVERSAL[..], &["--rays", "bounce"]].concat());

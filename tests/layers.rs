@@ -30,6 +30,7 @@ const LAYERS: &[&[&str]] = &[
     &["picture"],
     &["compare"],
     &["bench"],
+    &["report"],
     &["cli"],
 ];
 

@@ -5,6 +5,7 @@ mod render_support;
 
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
+use raypack::bench::slowdown::Slowdown;
 use raypack::picture::annotate::annotate_render;
 use raypack::picture::heat_map::HeatMapKind;
 use raypack::picture::report::{RenderReport, RunInfo};
@@ -158,7 +159,14 @@ fn scene_bench_measures_every_variant_on_the_same_rays() {
             }
         }
     }
-    let timings = measure(&BruteForce::new(&scene.primitives), &frame, &variants, 2).unwrap();
+    let timings = measure(
+        &BruteForce::new(&scene.primitives),
+        &frame,
+        &variants,
+        2,
+        &Slowdown::default(),
+    )
+    .unwrap();
     assert_eq!(timings.len(), 8);
     let hits = timings[0].hits;
     assert!(hits > 0 && hits < 64 * 64);
@@ -166,7 +174,10 @@ fn scene_bench_measures_every_variant_on_the_same_rays() {
         assert_eq!(t.variant, *v);
         assert_eq!(t.rays, 64 * 64);
         assert_eq!(t.hits, hits);
-        assert!(t.best_seconds > 0.0 && t.best_seconds <= t.median_seconds);
-        assert!(t.mrays_per_s() > 0.0);
+        assert_eq!(t.seconds.len(), 2, "every run is kept");
+        assert!(t.seconds.iter().all(|&s| s > 0.0));
+        let m = t.mrays_per_s();
+        assert_eq!(m.samples, 2);
+        assert!(m.ci_low > 0.0 && m.ci_low <= m.median && m.median <= m.ci_high);
     }
 }

@@ -12,12 +12,16 @@ use std::time::{Duration, Instant};
 use glam::{Mat4, Quat, Vec3};
 use wide::{f32x4, f32x8, f32x16};
 
+use crate::bench::figure::{Better, Figure};
+use crate::bench::slowdown::Slowdown;
+
 use crate::geometry::plane::Plane;
 use crate::geometry::{Cone, Intersect, Polygon, Primitive, Sphere, Transformed, Triangle};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::rng::Rng;
 use crate::simd::SimdFloat;
+use crate::statistics::Summary;
 
 /// One shape and the rays it is measured on.
 pub struct KernelSetup<K> {
@@ -166,47 +170,88 @@ pub fn run_packet<K: Intersect, F: SimdFloat>(kernel: &K, packets: &[RayPacket<F
     sum.to_array().as_ref().iter().sum()
 }
 
-/// One row of the kernel table.
+/// One row of the kernel table: each variant's tests per second, and the
+/// packet/scalar ratio from the same rounds.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct KernelRow {
     /// Shape name.
     pub primitive: &'static str,
     /// Scalar ray-primitive tests per second.
-    pub scalar_per_s: f64,
+    pub scalar_per_s: Summary,
     /// 8-wide packet ray-primitive tests per second.
-    pub packet8_per_s: f64,
-    /// `packet8_per_s / scalar_per_s`.
-    pub ratio: f64,
+    pub packet8_per_s: Summary,
+    /// `packet8_per_s / scalar_per_s`, round by round.
+    pub ratio: Summary,
     /// 4-wide packet tests per second (same kernel, `f32x4`).
-    pub packet4_per_s: f64,
+    pub packet4_per_s: Summary,
     /// 16-wide packet tests per second (same kernel, `f32x16`).
-    pub packet16_per_s: f64,
+    pub packet16_per_s: Summary,
     /// Rays per measurement.
     pub rays: usize,
     /// Fraction of rays that hit.
     pub hit_rate: f64,
 }
 
-/// Measures every setup, interleaving the variants, best of `rounds`.
+impl KernelRow {
+    /// The row's figures: each variant's rate and the packet8/scalar ratio.
+    pub fn figures(&self) -> Vec<Figure> {
+        let labels = |kernel: &str| {
+            vec![
+                ("primitive", self.primitive.to_string()),
+                ("kernel", kernel.to_string()),
+            ]
+        };
+        let mut figures: Vec<Figure> = [
+            ("scalar", self.scalar_per_s),
+            ("packet8", self.packet8_per_s),
+            ("packet4", self.packet4_per_s),
+            ("packet16", self.packet16_per_s),
+        ]
+        .into_iter()
+        .map(|(kernel, s)| Figure::new("throughput", "tests/s", Better::Higher, &labels(kernel), s))
+        .collect();
+        figures.push(Figure::new(
+            "packet8/scalar",
+            "x",
+            Better::Neither,
+            &[("primitive", self.primitive.to_string())],
+            self.ratio,
+        ));
+        figures
+    }
+}
+
+/// The kernel variants, in the order of a round.
+pub const VARIANTS: [&str; 4] = ["scalar", "packet8", "packet4", "packet16"];
+
+/// Measures every setup: one sample of each variant per round, interleaved.
 pub struct Measure {
     /// Minimum time per timed sample.
     pub sample: Duration,
-    /// Samples per variant (best is kept).
+    /// Samples per variant.
     pub rounds: usize,
+    /// The bench timing hook ([`Slowdown`]).
+    pub slowdown: Slowdown,
     /// The finished rows.
     pub rows: Vec<KernelRow>,
 }
 
-/// Tests per second of the best of `rounds` samples of `f` (each `per_call` tests).
-fn best_rate(samples: &mut [f64], i: usize, per_call: usize, sample: Duration, mut f: impl FnMut() -> f32) {
-    let start = Instant::now();
-    let mut calls = 0usize;
-    while start.elapsed() < sample {
-        black_box(f());
-        calls += 1;
+impl Measure {
+    /// Tests per second of one sample of `f` (each call `per_call` tests) on `variant`.
+    fn rate(&self, variant: &str, per_call: usize, mut f: impl FnMut() -> f32) -> f64 {
+        let start = Instant::now();
+        let mut calls = 0usize;
+        // At least one call, so that the rate is positive.
+        loop {
+            black_box(f());
+            calls += 1;
+            if start.elapsed() >= self.sample {
+                break;
+            }
+        }
+        let seconds = self.slowdown.apply(variant, start.elapsed().as_secs_f64());
+        (calls * per_call) as f64 / seconds
     }
-    let rate = (calls * per_call) as f64 / start.elapsed().as_secs_f64();
-    samples[i] = samples[i].max(rate);
 }
 
 impl SetupVisitor for Measure {
@@ -220,28 +265,23 @@ impl SetupVisitor for Measure {
         let kernel = black_box(&setup.kernel);
         // Warm up, then interleave the variants so drift hits them all alike.
         run_scalar(kernel, &setup.rays);
-        let mut best = [0.0f64; 4];
-        for _ in 0..self.rounds {
-            best_rate(&mut best, 0, n, self.sample, || {
-                run_scalar(kernel, black_box(&setup.rays))
-            });
-            best_rate(&mut best, 1, n, self.sample, || {
-                run_packet(kernel, black_box(&p8))
-            });
-            best_rate(&mut best, 2, n, self.sample, || {
-                run_packet(kernel, black_box(&p4))
-            });
-            best_rate(&mut best, 3, n, self.sample, || {
-                run_packet(kernel, black_box(&p16))
-            });
+        let mut samples: [Vec<f64>; 4] = Default::default();
+        for _ in 0..self.rounds.max(1) {
+            let [scalar, packet8, packet4, packet16] = VARIANTS;
+            samples[0].push(self.rate(scalar, n, || run_scalar(kernel, black_box(&setup.rays))));
+            samples[1].push(self.rate(packet8, n, || run_packet(kernel, black_box(&p8))));
+            samples[2].push(self.rate(packet4, n, || run_packet(kernel, black_box(&p4))));
+            samples[3].push(self.rate(packet16, n, || run_packet(kernel, black_box(&p16))));
         }
+        // Rates are finite and positive (a sample lasts at least one call).
+        let summary = |s: &[f64]| Summary::of(s).expect("finite rates");
         self.rows.push(KernelRow {
             primitive: setup.name,
-            scalar_per_s: best[0],
-            packet8_per_s: best[1],
-            ratio: best[1] / best[0],
-            packet4_per_s: best[2],
-            packet16_per_s: best[3],
+            scalar_per_s: summary(&samples[0]),
+            packet8_per_s: summary(&samples[1]),
+            ratio: Summary::paired_ratio(&samples[1], &samples[0]).expect("positive rates"),
+            packet4_per_s: summary(&samples[2]),
+            packet16_per_s: summary(&samples[3]),
             rays: n,
             hit_rate: setup.hit_rate(),
         });

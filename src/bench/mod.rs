@@ -1,6 +1,13 @@
-//! Measurement code shared by the `raypack bench` command and the criterion benches.
+//! Measurement code shared by the `raypack bench` command and the criterion
+//! benches, and the results they produce: figures with their intervals, the
+//! JSON result, and baselines to compare runs against.
 
+pub mod baseline;
+pub mod change;
+pub mod figure;
 pub mod kernels;
 pub mod rays;
+pub mod result;
 pub mod scene;
+pub mod slowdown;
 pub mod traversal;

@@ -7,21 +7,24 @@
 //! tiles and blocks) and only finds their nearest hits: no shading, no image.
 //! The other kinds are traced as `bench traversal` traces them: one by one
 //! for the scalar kernel, in their 8-ray packets for the packet kernel.
-//! The variants are interleaved run by run after one warm-up each, so drift of
-//! a shared machine hits them alike; the best run is kept (and the median
-//! reported beside it).
+//! The variants, of every engine measured, are interleaved run by run after
+//! one warm-up each ([`interleave`]), so drift of a shared machine hits them alike; every run's time is kept, so that each
+//! variant's figure is a median with its interval and the ratio of two
+//! variants is taken run by run ([`Summary::paired_ratio`]).
 
 use std::time::Instant;
 
 use crate::accel::Accel;
 use crate::accel::stats::{NoStats, Uncounted};
 use crate::bench::rays::RaySet;
+use crate::bench::slowdown::Slowdown;
 use crate::bench::traversal::{trace_packets, trace_single};
 use crate::camera::Camera;
 use crate::render::kernel::TraceKernel;
 use crate::render::tiles::{self, Tile};
 use crate::render::whitted::lanes;
 use crate::render::{Block, Grid, KernelKind, Packet8Kernel, Sampling, ScalarKernel, for_each_block};
+use crate::statistics::Summary;
 
 /// A kernel, pixel block and thread count to measure. 16 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -34,15 +37,14 @@ pub struct Variant {
     pub threads: usize,
 }
 
-/// The timing of one variant. 48 bytes.
-#[derive(Clone, Copy, Debug)]
+/// The timing of one variant. 56 bytes plus 8 per run.
+#[derive(Clone, Debug)]
 pub struct Timing {
     /// What was measured.
     pub variant: Variant,
-    /// Fastest run, seconds.
-    pub best_seconds: f64,
-    /// Median run, seconds.
-    pub median_seconds: f64,
+    /// Each run's time, seconds, in the order run (run `i` of every variant
+    /// was timed in the same round).
+    pub seconds: Vec<f64>,
     /// Rays per run.
     pub rays: u64,
     /// Rays that hit something (the same for every variant).
@@ -50,9 +52,15 @@ pub struct Timing {
 }
 
 impl Timing {
-    /// Million rays per second of the best run.
-    pub fn mrays_per_s(&self) -> f64 {
-        self.rays as f64 / self.best_seconds / 1e6
+    /// Million rays per second of each run.
+    pub fn mrays(&self) -> Vec<f64> {
+        self.seconds.iter().map(|s| self.rays as f64 / s / 1e6).collect()
+    }
+
+    /// The summary of [`mrays`](Self::mrays).
+    pub fn mrays_per_s(&self) -> Summary {
+        // Times are positive (a run takes time) and there is at least one run.
+        Summary::of(&self.mrays()).expect("positive run times")
     }
 }
 
@@ -114,7 +122,76 @@ impl PrimaryFrame {
     }
 }
 
-/// Measure every variant `runs` times (interleaved, after a warm-up each).
+/// One thing to time: a variant traced by one engine.
+pub struct Unit<'a> {
+    /// The variant.
+    pub variant: Variant,
+    /// The engine's index among those measured together: hits are compared
+    /// within one engine only, since engines may disagree on a few rays
+    /// (shared edges, coincident surfaces).
+    pub engine: usize,
+    /// Traces the rays on a pool of the variant's threads; returns the rays hit.
+    pub trace: Box<dyn Fn(&rayon::ThreadPool) -> u64 + 'a>,
+}
+
+/// The rays a unit traces.
+#[derive(Clone, Copy)]
+pub enum Rays<'a> {
+    /// The primary rays of a frame, through the tile scheduler in the variant's blocks.
+    Primary(&'a PrimaryFrame),
+    /// A ray set: one by one for the scalar kernel, in its 8-ray packets
+    /// (4×2-pixel blocks; the variant's block must be [`Block::B4x2`]) for the packet kernel.
+    Set(&'a RaySet),
+}
+
+impl Rays<'_> {
+    /// Rays per trace.
+    pub fn count(&self) -> u64 {
+        match self {
+            Self::Primary(frame) => frame.rays(),
+            Self::Set(set) => set.rays.len() as u64,
+        }
+    }
+}
+
+/// The units tracing `rays` with `accel` (engine number `engine`), one per variant.
+pub fn units<'a, A: Accel>(
+    accel: &'a A,
+    rays: Rays<'a>,
+    variants: &[Variant],
+    engine: usize,
+) -> Result<Vec<Unit<'a>>, String> {
+    if let (Rays::Set(set), Some(v)) = (rays, variants.iter().find(|v| v.block != Block::B4x2)) {
+        return Err(format!(
+            "{v:?}: {} rays are packed in 4x2 blocks",
+            set.kind.name()
+        ));
+    }
+    Ok(variants
+        .iter()
+        .map(|&variant| {
+            let trace: Box<dyn Fn(&rayon::ThreadPool) -> u64 + 'a> = match rays {
+                Rays::Primary(frame) => {
+                    Box::new(move |pool| frame.trace(accel, variant.kernel, variant.block, pool))
+                }
+                Rays::Set(set) => Box::new(move |pool| {
+                    pool.install(|| match variant.kernel {
+                        KernelKind::Scalar => trace_single(accel, set),
+                        KernelKind::Packet8 => trace_packets(accel, set),
+                    })
+                }),
+            };
+            Unit {
+                variant,
+                engine,
+                trace,
+            }
+        })
+        .collect())
+}
+
+/// Measure every variant `runs` times (interleaved, after a warm-up each),
+/// times passed through the bench timing hook `slowdown`.
 /// Fails if two variants disagree on the number of hits, which would mean the
 /// kernels do not trace the same scene.
 pub fn measure<A: Accel>(
@@ -122,84 +199,77 @@ pub fn measure<A: Accel>(
     frame: &PrimaryFrame,
     variants: &[Variant],
     runs: usize,
+    slowdown: &Slowdown,
 ) -> Result<Vec<Timing>, String> {
-    interleave(variants, runs, frame.rays(), |v, pool| {
-        frame.trace(accel, v.kernel, v.block, pool)
-    })
+    let rays = Rays::Primary(frame);
+    interleave(&units(accel, rays, variants, 0)?, runs, slowdown, rays.count())
 }
 
-/// Measure the rays of `set` per variant (interleaved, after a warm-up each):
-/// the scalar kernel traces them one by one, the packet kernel in their 8-ray
-/// packets (4×2-pixel blocks; the variant's block must be [`Block::B4x2`]).
-/// Fails if two variants disagree on the number of hits.
+/// Measure the rays of `set` per variant as [`measure`] does the primary rays
+/// (see [`Rays::Set`]).
 pub fn measure_set<A: Accel>(
     accel: &A,
     set: &RaySet,
     variants: &[Variant],
     runs: usize,
+    slowdown: &Slowdown,
 ) -> Result<Vec<Timing>, String> {
-    if let Some(v) = variants.iter().find(|v| v.block != Block::B4x2) {
-        return Err(format!(
-            "{v:?}: {} rays are packed in 4x2 blocks",
-            set.kind.name()
-        ));
-    }
-    interleave(variants, runs, set.rays.len() as u64, |v, pool| {
-        pool.install(|| match v.kernel {
-            KernelKind::Scalar => trace_single(accel, set),
-            KernelKind::Packet8 => trace_packets(accel, set),
-        })
-    })
+    let rays = Rays::Set(set);
+    interleave(&units(accel, rays, variants, 0)?, runs, slowdown, rays.count())
 }
 
-/// Time `trace` (which returns the rays hit of `rays`) per variant on a pool of
-/// its threads, `runs` times interleaved after a warm-up each.
-fn interleave(
-    variants: &[Variant],
+/// Time every unit (each trace `rays` rays) on a pool of its variant's
+/// threads, `runs` times interleaved unit by unit after a warm-up each, so
+/// that run `i` of every unit (of every engine among them) falls in round `i`;
+/// times pass through the bench timing hook `slowdown`. Fails if two units of
+/// one engine disagree on the number of hits.
+pub fn interleave(
+    units: &[Unit<'_>],
     runs: usize,
+    slowdown: &Slowdown,
     rays: u64,
-    trace: impl Fn(&Variant, &rayon::ThreadPool) -> u64,
 ) -> Result<Vec<Timing>, String> {
-    let pools = variants
+    let pools = units
         .iter()
-        .map(|v| {
+        .map(|u| {
             rayon::ThreadPoolBuilder::new()
-                .num_threads(v.threads)
+                .num_threads(u.variant.threads)
                 .build()
-                .map_err(|e| format!("cannot start {} threads: {e}", v.threads))
+                .map_err(|e| format!("cannot start {} threads: {e}", u.variant.threads))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let mut samples = vec![Vec::with_capacity(runs); variants.len()];
-    let mut hits = vec![0u64; variants.len()];
-    for (k, v) in variants.iter().enumerate() {
-        hits[k] = trace(v, &pools[k]);
-    }
-    if let Some(k) = hits.iter().position(|&h| h != hits[0]) {
-        return Err(format!(
-            "{:?} hits {} rays, {:?} hits {}",
-            variants[0], hits[0], variants[k], hits[k]
-        ));
-    }
-    for _ in 0..runs.max(1) {
-        for (k, v) in variants.iter().enumerate() {
-            let start = Instant::now();
-            std::hint::black_box(trace(v, &pools[k]));
-            samples[k].push(start.elapsed().as_secs_f64());
+    let hits: Vec<u64> = units
+        .iter()
+        .zip(&pools)
+        .map(|(u, pool)| (u.trace)(pool))
+        .collect();
+    for (k, u) in units.iter().enumerate() {
+        if let Some(first) = units.iter().position(|o| o.engine == u.engine)
+            && hits[first] != hits[k]
+        {
+            return Err(format!(
+                "{:?} hits {} rays, {:?} hits {}",
+                units[first].variant, hits[first], u.variant, hits[k]
+            ));
         }
     }
-    Ok(variants
+    let mut samples = vec![Vec::with_capacity(runs); units.len()];
+    for _ in 0..runs.max(1) {
+        for (k, u) in units.iter().enumerate() {
+            let start = Instant::now();
+            std::hint::black_box((u.trace)(&pools[k]));
+            samples[k].push(slowdown.apply(u.variant.kernel.name(), start.elapsed().as_secs_f64()));
+        }
+    }
+    Ok(units
         .iter()
         .zip(samples)
         .zip(hits)
-        .map(|((&variant, mut s), hits)| {
-            s.sort_by(f64::total_cmp);
-            Timing {
-                variant,
-                best_seconds: s[0],
-                median_seconds: s[s.len() / 2],
-                rays,
-                hits,
-            }
+        .map(|((u, seconds), hits)| Timing {
+            variant: u.variant,
+            seconds,
+            rays,
+            hits,
         })
         .collect())
 }

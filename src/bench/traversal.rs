@@ -8,24 +8,29 @@
 //!
 //! Rays are made before timing ([`RaySource`]), so only traversal is measured.
 //! Threads take whole tiles of 256 rays (rayon). Scenes, engines, kinds and
-//! variants are interleaved round by round and the best round is kept, so a
-//! drift of a shared machine's speed hits every scene alike and the growth of
-//! time per ray from the first scene to the others is read off one run.
+//! variants are interleaved round by round and every round is kept, so a
+//! drift of a shared machine's speed hits every scene alike: each figure is a
+//! median with its interval, and the ratios (packets over single rays, one
+//! scene's time per ray over the first's, raypack over Embree) are taken
+//! round by round ([`Summary::paired_ratio`]).
 
 use std::hint::black_box;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::accel::{Accel, AccelWithStats, Bvh, TraversalStats};
+use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{Query, RayKind, RaySet, RaySource, default_light};
+use crate::bench::slowdown::Slowdown;
 use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::engine::{EmbreeIsa, Engine};
 use crate::geometry::Primitive;
 use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
 use crate::simd::SimdFloat;
+use crate::statistics::Summary;
 
 /// Rays per tile: 16×16 pixels, 32 packets of 4×2.
 pub const TILE_RAYS: usize = 256;
@@ -302,15 +307,15 @@ pub struct TraversalRow {
     pub embree_isa: Option<EmbreeIsa>,
     /// Threads of the rayon pool.
     pub threads: usize,
-    /// Best build time, seconds.
-    pub build_s: f64,
+    /// Build time, ms, of three builds.
+    pub build_ms: Summary,
     /// The tree's SAH cost (raypack only: Embree does not report its tree).
     pub sah_cost: Option<f64>,
     /// Primary rays: image size.
     pub resolution: (u32, u32),
     /// The figures of each ray kind, in the order measured.
     pub kinds: Vec<KindRow>,
-    /// Timed rounds per variant (best kept).
+    /// Timed rounds per variant.
     pub rounds: usize,
 }
 
@@ -321,6 +326,57 @@ impl TraversalRow {
             engine: self.engine,
             embree_isa: self.embree_isa,
         }
+    }
+
+    /// The row's figures: build time, each kind's single-ray and packet
+    /// throughput, their ratio, and the growth of time per ray from the first scene.
+    pub fn figures(&self) -> Vec<Figure> {
+        let labels = |extra: &[(&'static str, String)]| -> Vec<(&'static str, String)> {
+            let mut l = vec![
+                ("scene", self.scene.clone()),
+                ("primitives", self.primitives.to_string()),
+                ("engine", self.variant().name()),
+                ("threads", self.threads.to_string()),
+            ];
+            l.extend_from_slice(extra);
+            l
+        };
+        let mut figures = vec![Figure::new(
+            "build",
+            "ms",
+            Better::Lower,
+            &labels(&[]),
+            self.build_ms,
+        )];
+        for k in &self.kinds {
+            let kind = ("rays", k.kind.name().to_string());
+            for (v, (kernel, s)) in [("single", k.single_mrays), ("packet8", k.packet_mrays)]
+                .into_iter()
+                .enumerate()
+            {
+                let l = labels(&[kind.clone(), ("kernel", kernel.to_string())]);
+                figures.push(Figure::new("throughput", "Mrays/s", Better::Higher, &l, s));
+                let growth = k.growth_vs_first[v];
+                figures.push(Figure::new(
+                    "time per ray vs first scene",
+                    "x",
+                    Better::Neither,
+                    &l,
+                    growth,
+                ));
+                if let Some(vs) = k.vs_embree {
+                    figures.push(Figure::new("raypack/embree", "x", Better::Neither, &l, vs[v]));
+                }
+            }
+            figures.push(Figure::new(
+                "packet8/single",
+                "x",
+                Better::Neither,
+                &labels(&[kind]),
+                k.packet_vs_single,
+            ));
+        }
+        figures
     }
 }
 
@@ -336,39 +392,33 @@ pub struct KindRow {
     /// Rays that hit (nearest) or found something (any hit), single-ray traversal.
     pub hits: u64,
     /// Single-ray traversal, Mrays/s.
-    pub single_mrays: f64,
+    pub single_mrays: Summary,
     /// 8-ray packets, Mrays/s.
-    pub packet_mrays: f64,
+    pub packet_mrays: Summary,
+    /// `packet_mrays / single_mrays`, round by round.
+    pub packet_vs_single: Summary,
     /// Counts of the single-ray pass (raypack only: Embree does not report them).
     pub single_stats: Option<TraversalStats>,
     /// Counts of the packet pass (raypack only).
     pub packet_stats: Option<TraversalStats>,
     /// Time per ray against the same engine and kind on the first scene
-    /// measured alongside (1 for itself): single rays, packets.
-    pub growth_vs_first: [f64; 2],
+    /// measured alongside, round by round (1 for itself): single rays, packets.
+    pub growth_vs_first: [Summary; 2],
+    /// raypack rows: Mrays/s over Embree's on the same rays, round by round,
+    /// when Embree was measured alongside: single rays, packets.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_embree: Option<[Summary; 2]>,
 }
 
 impl KindRow {
-    /// The better of single rays and packets, Mrays/s, and which it was.
+    /// The faster of single rays and packets by median, Mrays/s, and which it was.
     pub fn best(&self) -> (f64, &'static str) {
-        if self.packet_mrays > self.single_mrays {
-            (self.packet_mrays, "packet8")
+        if self.packet_mrays.median > self.single_mrays.median {
+            (self.packet_mrays.median, "packet8")
         } else {
-            (self.single_mrays, "single")
+            (self.single_mrays.median, "single")
         }
     }
-}
-
-/// Best (shortest) wall time of `f` over `rounds` calls.
-fn best_time<T>(rounds: usize, mut f: impl FnMut() -> T) -> Duration {
-    (0..rounds.max(1))
-        .map(|_| {
-            let start = Instant::now();
-            black_box(f());
-            start.elapsed()
-        })
-        .min()
-        .unwrap_or_default()
 }
 
 /// A scene and an engine measured on it.
@@ -376,36 +426,26 @@ struct Case<'a> {
     setup: &'a TraversalSetup,
     variant: EngineVariant,
     structure: Structure,
-    /// Best build time.
-    build: Duration,
-    /// Per ray set: best times of single rays and packets.
-    best: Vec<[Duration; 2]>,
+    /// Build times, ms.
+    build: Summary,
+    /// Per ray set: each round's seconds per ray of single rays and packets.
+    per_ray: Vec<[Vec<f64>; 2]>,
     /// Per ray set: rays hit by single rays.
     hits: Vec<u64>,
-}
-
-impl Case<'_> {
-    /// Seconds per ray of each set, single rays and packets.
-    fn per_ray(&self) -> Vec<[f64; 2]> {
-        self.setup
-            .sets
-            .iter()
-            .zip(&self.best)
-            .map(|(set, best)| best.map(|t| t.as_secs_f64() / set.rays.len().max(1) as f64))
-            .collect()
-    }
 }
 
 /// Measure every engine of `builder` on `setups` on a rayon pool of the
 /// builder's threads:
 /// each build time (best of 3), then single rays and packets of every ray set
 /// of every scene and engine, interleaved scene by scene, engine by engine and
-/// variant by variant, best of `rounds` after a warm-up round. With Embree
+/// variant by variant, `rounds` rounds after a warm-up round, times passed
+/// through the bench timing hook `slowdown`. With Embree
 /// among the engines every pool thread sets FTZ/DAZ, so both engines run in that mode.
 pub fn measure(
     setups: &[TraversalSetup],
     builder: &Builder,
     rounds: usize,
+    slowdown: &Slowdown,
 ) -> anyhow::Result<Vec<TraversalRow>> {
     let (variants, threads) = (builder.variants(), builder.threads());
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads);
@@ -417,25 +457,23 @@ pub fn measure(
     };
     let pool = pool.build()?;
     pool.install(|| {
-        // Build each structure three times, keeping the best time and the last structure.
+        // Build each structure three times, keeping every time and the last structure.
         let mut cases = Vec::with_capacity(setups.len() * variants.len());
         for setup in setups {
             for &variant in variants {
-                let mut build = Duration::MAX;
-                let mut structure = None;
+                let mut build = Vec::new();
+                let mut structure = builder.build(variant, &setup.prims)?;
                 for _ in 0..3 {
                     let start = Instant::now();
-                    let built = builder.build(variant, &setup.prims)?;
-                    build = build.min(start.elapsed());
-                    structure = Some(built);
+                    structure = builder.build(variant, &setup.prims)?;
+                    build.push(1e3 * start.elapsed().as_secs_f64());
                 }
-                let structure = structure.expect("three builds");
                 cases.push(Case {
                     setup,
                     variant,
                     structure,
-                    build,
-                    best: vec![[Duration::MAX; 2]; setup.sets.len()],
+                    build: Summary::of(&build)?,
+                    per_ray: vec![Default::default(); setup.sets.len()],
                     hits: vec![0; setup.sets.len()],
                 });
             }
@@ -445,50 +483,64 @@ pub fn measure(
             for case in &mut cases {
                 let (s, setup) = (&case.structure, case.setup);
                 for (k, set) in setup.sets.iter().enumerate() {
-                    for packets in [false, true] {
-                        let mut hits = 0;
-                        let t = best_time(1, || hits = s.trace(set, packets));
-                        if round == 0 && !packets {
+                    for (v, variant) in ["single", "packet8"].into_iter().enumerate() {
+                        let start = Instant::now();
+                        let hits = black_box(s.trace(set, v == 1));
+                        let seconds = slowdown.apply(variant, start.elapsed().as_secs_f64());
+                        if round == 0 && v == 0 {
                             case.hits[k] = hits;
                         }
                         if round > 0 {
-                            let best = &mut case.best[k][usize::from(packets)];
-                            *best = (*best).min(t);
+                            case.per_ray[k][v].push(seconds / set.rays.len().max(1) as f64);
                         }
                     }
                 }
             }
         }
-        Ok(cases
+        cases
             .iter()
             .map(|case| {
-                let first = cases
-                    .iter()
-                    .find(|c| c.variant == case.variant)
-                    .expect("the case itself")
-                    .per_ray();
-                let growth: Vec<[f64; 2]> = case
-                    .per_ray()
-                    .iter()
-                    .zip(&first)
-                    .map(|(own, first)| [own[0] / first[0], own[1] / first[1]])
-                    .collect();
-                row(case, threads, rounds, &growth)
+                // The first case of the engine: the case itself at the latest.
+                let first = cases.iter().find(|c| c.variant == case.variant).unwrap_or(case);
+                // Embree on the same rays: its first ISA setting measured.
+                let embree = cases.iter().find(|c| {
+                    case.variant.engine == Engine::Raypack
+                        && c.variant.engine == Engine::Embree
+                        && std::ptr::eq(c.setup, case.setup)
+                });
+                row(
+                    case,
+                    &first.per_ray,
+                    embree.map(|c| &c.per_ray[..]),
+                    threads,
+                    rounds,
+                )
             })
-            .collect())
+            .collect()
     })
 }
 
-/// The table row of `case`: its best times as Mrays/s, and for raypack the
-/// SAH cost and the traversal counts of one more (untimed) pass of each variant.
-fn row(case: &Case<'_>, threads: usize, rounds: usize, growth: &[[f64; 2]]) -> TraversalRow {
+/// The table row of `case`: its times as Mrays/s, the ratios, the growth of
+/// time per ray from `first_per_ray` (the engine's first scene), the speed
+/// over Embree's on the same rays (`embree_per_ray`, when measured), and for
+/// raypack the SAH cost and the traversal counts of one more (untimed) pass of each variant.
+fn row(
+    case: &Case<'_>,
+    first_per_ray: &[[Vec<f64>; 2]],
+    embree_per_ray: Option<&[[Vec<f64>; 2]]>,
+    threads: usize,
+    rounds: usize,
+) -> anyhow::Result<TraversalRow> {
     let setup = case.setup;
-    let mrays = |n: usize, t: Duration| n as f64 / t.as_secs_f64() / 1e6;
+    let mrays = |per_ray: &[f64]| Summary::of(&per_ray.iter().map(|t| 1e-6 / t).collect::<Vec<_>>());
     let kinds = setup
         .sets
         .iter()
         .enumerate()
-        .map(|(k, set)| {
+        .map(|(k, set)| -> anyhow::Result<KindRow> {
+            let [single, packet] = &case.per_ray[k];
+            // Per kind, the first scene's sets are the same kinds in the same order.
+            let first = first_per_ray.get(k).unwrap_or(&case.per_ray[k]);
             let stats = match &case.structure {
                 Structure::Raypack(bvh) => {
                     let [single, packet] = counted(bvh, set);
@@ -497,36 +549,47 @@ fn row(case: &Case<'_>, threads: usize, rounds: usize, growth: &[[f64; 2]]) -> T
                 #[cfg(feature = "embree")]
                 Structure::Embree(_) => (None, None),
             };
-            KindRow {
+            Ok(KindRow {
                 kind: set.kind,
                 query: set.kind.query(),
                 rays: set.rays.len(),
                 hits: case.hits[k],
-                single_mrays: mrays(set.rays.len(), case.best[k][0]),
-                packet_mrays: mrays(set.rays.len(), case.best[k][1]),
+                single_mrays: mrays(single)?,
+                packet_mrays: mrays(packet)?,
+                packet_vs_single: Summary::paired_ratio(single, packet)?,
                 single_stats: stats.0,
                 packet_stats: stats.1,
-                growth_vs_first: growth[k],
-            }
+                growth_vs_first: [
+                    Summary::paired_ratio(single, &first[0])?,
+                    Summary::paired_ratio(packet, &first[1])?,
+                ],
+                vs_embree: match embree_per_ray.and_then(|e| e.get(k)) {
+                    Some([e_single, e_packet]) => Some([
+                        Summary::paired_ratio(e_single, single)?,
+                        Summary::paired_ratio(e_packet, packet)?,
+                    ]),
+                    None => None,
+                },
+            })
         })
-        .collect();
+        .collect::<anyhow::Result<_>>()?;
     let sah_cost = match &case.structure {
         Structure::Raypack(bvh) => Some(bvh.info().sah_cost),
         #[cfg(feature = "embree")]
         Structure::Embree(_) => None,
     };
-    TraversalRow {
+    Ok(TraversalRow {
         scene: setup.name.clone(),
         primitives: setup.prims.len(),
         engine: case.variant.engine,
         embree_isa: case.variant.embree_isa,
         threads,
-        build_s: case.build.as_secs_f64(),
+        build_ms: case.build,
         sah_cost,
         resolution: setup.resolution,
         kinds,
         rounds,
-    }
+    })
 }
 
 /// The traversal counts of `set` on `bvh`: single rays, packets.

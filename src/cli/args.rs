@@ -109,6 +109,20 @@ fn image_fits(width: u32, height: u32, available: u64, source: &str) -> Result<(
     Ok(())
 }
 
+/// The environment of this run, with Embree's version and device
+/// configuration when `embree_config` is given and the build has Embree.
+pub fn environment(embree_config: Option<&str>) -> Result<crate::environment::Environment, CliError> {
+    let env = crate::environment::Environment::collect();
+    #[cfg(feature = "embree")]
+    if let Some(config) = embree_config {
+        let device = crate::embree::Device::new(config).map_err(|e| CliError::BadInput(e.into()))?;
+        return Ok(env.with_embree((&device).into()));
+    }
+    #[cfg(not(feature = "embree"))]
+    let _ = embree_config;
+    Ok(env)
+}
+
 /// The Embree scene of `scene` on a device made with `config`.
 #[cfg(feature = "embree")]
 pub fn embree_scene(

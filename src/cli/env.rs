@@ -4,7 +4,7 @@
 //! and the date.
 
 use crate::cli::CliResult;
-use crate::environment::Environment;
+use crate::cli::args::environment;
 
 /// Options of `env`.
 #[derive(clap::Args, Debug)]
@@ -19,14 +19,8 @@ pub struct Args {
 
 /// Collect the environment and print it.
 pub fn run(args: Args) -> CliResult {
-    let env = Environment::collect();
-    // With Embree built in, make a device to ask the library its version.
-    #[cfg(feature = "embree")]
-    let env = {
-        let device = crate::embree::Device::new(&args.embree_config)
-            .map_err(|e| crate::cli::CliError::BadInput(e.into()))?;
-        env.with_embree((&device).into())
-    };
+    // With Embree built in, a device is made to ask the library its version.
+    let env = environment(Some(&args.embree_config))?;
     if args.json {
         let text = serde_json::to_string_pretty(&env).map_err(anyhow::Error::from)?;
         println!("{text}");

@@ -7,6 +7,7 @@ mod env;
 mod r#gen;
 mod info;
 pub mod render;
+mod report;
 mod stats;
 mod trace;
 
@@ -42,6 +43,8 @@ pub enum Command {
     Trace(trace::TraceArgs),
     /// Render a scene into a timing-annotated PNG.
     Render(render::Args),
+    /// Make one self-contained HTML page of charts from `bench … --json` results.
+    Report(report::Args),
     /// Ray statistics: with --spd, the counts of the SPD's test procedure as JSON.
     Stats(stats::Args),
 }
@@ -64,6 +67,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run(args),
         Command::Trace(args) => trace::run(args),
         Command::Render(args) => render::run(args),
+        Command::Report(args) => report::run(args),
         Command::Stats(args) => stats::run(args),
     };
     match result {

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# docs/report.html, the page of raypack's measured figures, and its screenshot
+# docs/report.png, from the bench results committed in docs/results/*.json.
+#
+#   scripts/report.sh            regenerate the page and the screenshot
+#   scripts/report.sh --measure  measure the results anew first (minutes), then regenerate
+#
+# The results are `raypack bench … --json` (each with the machine and build it
+# ran on). Measuring uses the Embree build when there is one (README: Embree 4)
+# so that raypack/Embree ratios are in the page; RAYPACK=path/to/raypack and
+# ENGINES=raypack,embree override the choice. The screenshot needs Debian's
+# `chromium` (apt-get install chromium). Every output is written to a temporary
+# name and renamed when complete.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if [ -z "${RAYPACK:-}" ]; then
+    if [ -x target/embree/release/raypack ]; then
+        RAYPACK=target/embree/release/raypack
+    else
+        cargo build --release --quiet
+        RAYPACK=target/release/raypack
+    fi
+fi
+if [ -z "${ENGINES:-}" ]; then
+    # The whole output first: grep -q would close the pipe on the first match.
+    if grep -q '^features .*embree' <<< "$("$RAYPACK" env)"; then
+        ENGINES=raypack,embree
+    else
+        ENGINES=raypack
+    fi
+fi
+
+# into FILE COMMAND...: COMMAND's stdout into FILE, renamed into place when complete.
+into() {
+    local file=$1
+    shift
+    "$@" > "$file.tmp"
+    mv "$file.tmp" "$file"
+}
+
+if [ "${1:-}" = --measure ]; then
+    mkdir -p docs/results
+    echo "measuring with $RAYPACK, engines $ENGINES" >&2
+    into docs/results/kernels.json "$RAYPACK" bench kernels --json
+    into docs/results/scene-spd_balls.json "$RAYPACK" bench scene scenes/spd_balls.nff \
+        --size 256x256 --threads 1,2 --engine "$ENGINES" --json
+    into docs/results/traversal.json "$RAYPACK" bench traversal --sizes 1000,10000,100000 \
+        --size 256x256 --random 65536 --threads 1,2 --engine "$ENGINES" --json
+elif [ -n "${1:-}" ]; then
+    echo "usage: scripts/report.sh [--measure]" >&2
+    exit 2
+fi
+
+"$RAYPACK" report docs/results/*.json -o docs/report.html
+echo "wrote docs/report.html" >&2
+# Chromium writes PNG only to a name ending in .png.
+chromium --headless --disable-gpu --no-sandbox --hide-scrollbars --window-size=1200,2400 \
+    --screenshot="$PWD/docs/report.tmp.png" "file://$PWD/docs/report.html" 2> /dev/null
+mv docs/report.tmp.png docs/report.png
+echo "wrote docs/report.png" >&2

@@ -1,0 +1,435 @@
+//! `raypack bench scene`: a scene's throughput per ray kind, engine, kernel,
+//! pixel block and thread count, with the ratios between them taken run by run.
+
+use std::path::Path;
+
+use clap::Args;
+
+use crate::bench::figure::{Better, Figure};
+use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
+use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
+use crate::bench::slowdown::Slowdown;
+use crate::bench::traversal::scene_bounds;
+use crate::cli::args::{load_scene, parse_size, scene_camera};
+use crate::cli::bench::{Output, Run, figure};
+use crate::cli::{CliError, CliResult};
+use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
+use crate::render::{Block, KernelKind};
+use crate::scene::Scene;
+use crate::statistics::{StatsError, Summary};
+
+/// Options of `bench scene`.
+#[derive(Args, Debug)]
+pub struct SceneArgs {
+    /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
+    pub scene: std::path::PathBuf,
+    /// Thread counts to measure, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [1u16, 2], value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub threads: Vec<u16>,
+    /// Kernels to measure, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [KernelKind::Scalar, KernelKind::Packet8])]
+    pub kernel: Vec<KernelKind>,
+    /// Acceleration structure.
+    #[arg(long, value_enum, default_value_t = AccelKind::Bvh)]
+    pub accel: AccelKind,
+    /// Engines to measure, comma-separated (`embree` needs the `embree` feature).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Engine::Raypack])]
+    pub engine: Vec<Engine>,
+    /// Pixel blocks per packet to measure, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Block::B4x2])]
+    pub block: Vec<Block>,
+    /// Tile edge in pixels.
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub tile: u32,
+    /// Image size WxH (default: the scene camera's; the fields of view stay the scene's).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Timed runs per variant, interleaved (a 95% interval needs 6 or more).
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10000))]
+    pub runs: u32,
+    /// Ray kinds to measure, comma-separated (see `bench traversal --rays`):
+    /// primary rays go through the tile scheduler in the blocks asked for, the
+    /// others one by one (scalar) or in their 4×2-pixel packets (packet8).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = RayKind::ALL)]
+    pub rays: Vec<RayKind>,
+    /// Output and baselines.
+    #[command(flatten)]
+    pub output: Output,
+}
+
+/// One row of `bench scene --json`: the throughput of one variant (its
+/// median, interval and samples inline) and its ratios to others of the same
+/// ray kind, each from the two variants' runs paired round by round.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SceneRow {
+    /// Scene file name.
+    pub scene: String,
+    /// `raypack` or `embree`.
+    pub engine: &'static str,
+    /// Kernel.
+    pub kernel: &'static str,
+    /// Acceleration structure.
+    pub accel: &'static str,
+    /// Worker threads.
+    pub threads: usize,
+    /// The unit of the row's figures: `Mrays/s`.
+    pub unit: &'static str,
+    /// Million rays per second: median, interval, spread, samples, noise flag.
+    #[serde(flatten)]
+    pub mrays_per_s: Summary,
+    /// Over the first row of the same ray kind (first engine, kernel, block
+    /// and thread count).
+    pub ratio: Summary,
+    /// Over the same engine, kernel, block and ray kind on the fewest threads
+    /// measured (1 by default): the thread scaling.
+    pub vs_fewest_threads: Summary,
+    /// raypack rows: over Embree's on the same kernel width, block, threads
+    /// and ray kind (when Embree was measured).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_embree: Option<Summary>,
+    /// Ray kind measured.
+    pub rays_kind: &'static str,
+    /// Rays per run.
+    pub rays: u64,
+    /// Rays that hit.
+    pub hits: u64,
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Pixel block per packet.
+    pub block: &'static str,
+    /// Tile edge.
+    pub tile: u32,
+    /// Timed runs.
+    pub runs: u32,
+    /// Primitives in the scene.
+    pub primitives: usize,
+    /// Acceleration structure build, ms.
+    pub setup_ms: f64,
+}
+
+impl SceneRow {
+    /// The row's figures: its throughput and its ratios.
+    fn figures(&self) -> Vec<Figure> {
+        let labels = [
+            ("scene", self.scene.clone()),
+            ("rays", self.rays_kind.to_string()),
+            ("engine", self.engine.to_string()),
+            ("kernel", self.kernel.to_string()),
+            ("block", self.block.to_string()),
+            ("threads", self.threads.to_string()),
+        ];
+        let mut figures = vec![
+            Figure::new("throughput", "Mrays/s", Better::Higher, &labels, self.mrays_per_s),
+            Figure::new("vs first row", "x", Better::Neither, &labels, self.ratio),
+            Figure::new(
+                "vs fewest threads",
+                "x",
+                Better::Neither,
+                &labels,
+                self.vs_fewest_threads,
+            ),
+        ];
+        if let Some(vs) = self.vs_embree {
+            figures.push(Figure::new("raypack/embree", "x", Better::Neither, &labels, vs));
+        }
+        figures
+    }
+}
+
+/// What `bench scene` measures: per ray kind, every variant on every engine.
+struct Plan<'a> {
+    /// The primary rays, if measured.
+    frame: Option<&'a PrimaryFrame>,
+    variants: &'a [Variant],
+    /// The other ray kinds, and their variants (4×2 blocks).
+    sets: &'a [RaySet],
+    set_variants: &'a [Variant],
+    runs: usize,
+    slowdown: &'a Slowdown,
+}
+
+/// Builds one engine's units for some rays and variants, as its number.
+type UnitsOf<'x> = dyn Fn(Rays<'x>, &[Variant], usize) -> Result<Vec<Unit<'x>>, String> + 'x;
+
+/// Each measurement: engine number, ray kind, timing; and each engine's build time.
+type Measurements = (Vec<(usize, RayKind, Timing)>, Vec<f64>);
+
+impl Plan<'_> {
+    /// Per ray kind, the variants of every engine of `engines` interleaved in one set of rounds.
+    fn measure<'x>(&'x self, engines: &[&UnitsOf<'x>]) -> Result<Vec<(usize, RayKind, Timing)>, String> {
+        let mut kinds: Vec<(RayKind, Rays<'x>, &[Variant])> = Vec::new();
+        if let Some(frame) = self.frame {
+            kinds.push((RayKind::Primary, Rays::Primary(frame), self.variants));
+        }
+        kinds.extend(
+            self.sets
+                .iter()
+                .map(|s| (s.kind, Rays::Set(s), self.set_variants)),
+        );
+        let mut out = Vec::new();
+        for (kind, rays, variants) in kinds {
+            let mut all = Vec::new();
+            for (e, units_of) in engines.iter().enumerate() {
+                all.extend(units_of(rays, variants, e)?);
+            }
+            let timings = interleave(&all, self.runs, self.slowdown, rays.count())?;
+            out.extend(all.iter().zip(timings).map(|(u, t)| (u.engine, kind, t)));
+        }
+        Ok(out)
+    }
+}
+
+/// The first engine's structure: measured alone, or handed on to build the second's.
+struct FirstEngine<'a> {
+    plan: &'a Plan<'a>,
+    scene: &'a Scene,
+    second: Option<Engine>,
+    accel: AccelKind,
+}
+
+impl WithAccel for FirstEngine<'_> {
+    type Output = anyhow::Result<Result<Measurements, String>>;
+
+    fn run<A: crate::accel::Accel>(self, a: &A, setup_seconds: f64) -> Self::Output {
+        let Some(second) = self.second else {
+            let of_a = |r, v: &[Variant], e| units(a, r, v, e);
+            return Ok(self.plan.measure(&[&of_a]).map(|m| (m, vec![setup_seconds])));
+        };
+        let job = SecondEngine {
+            plan: self.plan,
+            first: a,
+            first_setup: setup_seconds,
+        };
+        with_engine(self.scene, second, self.accel, job)
+    }
+}
+
+/// The second engine's structure, measured interleaved with the first's.
+struct SecondEngine<'a, A> {
+    plan: &'a Plan<'a>,
+    first: &'a A,
+    first_setup: f64,
+}
+
+impl<A: crate::accel::Accel> WithAccel for SecondEngine<'_, A> {
+    type Output = Result<Measurements, String>;
+
+    fn run<B: crate::accel::Accel>(self, b: &B, setup_seconds: f64) -> Self::Output {
+        let of_a = |r, v: &[Variant], e| units(self.first, r, v, e);
+        let of_b = |r, v: &[Variant], e| units(b, r, v, e);
+        let measured = self.plan.measure(&[&of_a, &of_b])?;
+        Ok((measured, vec![self.first_setup, setup_seconds]))
+    }
+}
+
+/// Measure and report.
+pub fn run(args: SceneArgs) -> CliResult {
+    let run = Run::start(&args.output, "scene")?;
+    let (scene, _) = load_scene(&args.scene)?;
+    let camera = scene_camera(&scene, Path::new(&args.scene), args.size)?;
+    let frame = PrimaryFrame::new(&camera, args.tile);
+    // The other kinds start from the primary hits (or the box): made once for every engine.
+    let mut others: Vec<RayKind> = Vec::new();
+    for &kind in &args.rays {
+        if kind != RayKind::Primary && !others.contains(&kind) {
+            others.push(kind);
+        }
+    }
+    let sets = if others.is_empty() {
+        Vec::new()
+    } else {
+        let bounds = scene_bounds(&scene.primitives);
+        RaySource {
+            prims: &scene.primitives,
+            bounds,
+            camera: &camera,
+            light: scene
+                .lights
+                .first()
+                .map_or_else(|| default_light(bounds), |l| l.position),
+            random: camera.width as usize * camera.height as usize,
+            seed: 2,
+        }
+        .make(&others)
+    };
+    let mut set_variants: Vec<Variant> = Vec::new();
+    for &kernel in &args.kernel {
+        for &threads in &args.threads {
+            set_variants.push(Variant {
+                kernel,
+                block: Block::B4x2,
+                threads: usize::from(threads),
+            });
+        }
+    }
+    let mut variants = Vec::new();
+    for &kernel in &args.kernel {
+        for &block in &args.block {
+            for &threads in &args.threads {
+                variants.push(Variant {
+                    kernel,
+                    block,
+                    threads: usize::from(threads),
+                });
+            }
+        }
+    }
+    let name = args.scene.file_name().unwrap_or(args.scene.as_os_str());
+    let name = name.to_string_lossy().into_owned();
+    let plan = Plan {
+        frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
+        variants: &variants,
+        sets: &sets,
+        set_variants: &set_variants,
+        runs: args.runs as usize,
+        slowdown: &run.slowdown,
+    };
+    // Every engine's structure is built first, so that their variants interleave.
+    let mut engines: Vec<Engine> = Vec::new();
+    for &engine in &args.engine {
+        if !engines.contains(&engine) {
+            engines.push(engine);
+        }
+    }
+    let job = FirstEngine {
+        plan: &plan,
+        scene: &scene,
+        second: engines.get(1).copied(),
+        accel: args.accel,
+    };
+    let (timings, setup_seconds) = with_engine(&scene, engines[0], args.accel, job)
+        .and_then(|inner| inner)
+        .map_err(CliError::BadInput)?
+        .map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
+    let measured: Vec<Measured> = timings
+        .into_iter()
+        .map(|(e, kind, timing)| Measured {
+            engine: engines[e],
+            kind,
+            mrays: timing.mrays(),
+            timing,
+            setup_seconds: setup_seconds[e],
+        })
+        .collect();
+    let rows = measured
+        .iter()
+        .map(|m| {
+            let (ratio, vs_fewest_threads, vs_embree) = ratios(m, &measured)?;
+            Ok(SceneRow {
+                scene: name.clone(),
+                engine: m.engine.name(),
+                kernel: m.timing.variant.kernel.name(),
+                accel: match m.engine {
+                    Engine::Raypack => args.accel.name(),
+                    Engine::Embree => "embree",
+                },
+                threads: m.timing.variant.threads,
+                unit: "Mrays/s",
+                mrays_per_s: m.timing.mrays_per_s(),
+                ratio,
+                vs_fewest_threads,
+                vs_embree,
+                rays_kind: m.kind.name(),
+                rays: m.timing.rays,
+                hits: m.timing.hits,
+                width: camera.width,
+                height: camera.height,
+                block: m.timing.variant.block.name(),
+                tile: args.tile,
+                runs: args.runs,
+                primitives: scene.primitives.len(),
+                setup_ms: 1e3 * m.setup_seconds,
+            })
+        })
+        .collect::<Result<Vec<_>, StatsError>>()
+        .map_err(|e| CliError::Failed(e.into()))?;
+    let figures = rows.iter().flat_map(SceneRow::figures).collect();
+    let embree = args
+        .engine
+        .contains(&Engine::Embree)
+        .then_some(crate::engine::DEFAULT_EMBREE_CONFIG);
+    run.finish(rows, figures, embree, |rows| {
+        println!(
+            "{}: {} primitives, {}x{} primary rays through pixel centres (other kinds from their hits), \
+             accel {}, {}px tiles, {} runs per variant after a warm-up, interleaved",
+            name,
+            scene.primitives.len(),
+            camera.width,
+            camera.height,
+            args.accel.name(),
+            args.tile,
+            args.runs
+        );
+        print_table(rows);
+    })
+}
+
+/// One variant of one engine and ray kind, measured.
+struct Measured {
+    engine: Engine,
+    kind: RayKind,
+    timing: Timing,
+    /// Each run's Mrays/s.
+    mrays: Vec<f64>,
+    setup_seconds: f64,
+}
+
+/// The ratios of `m` within its ray kind, from runs paired round by round:
+/// over the kind's first variant, over the fewest threads of the same
+/// variant, and (raypack) over Embree on the same kernel, block and threads.
+/// The first two are over `m` itself at the latest. Every engine's variants
+/// are interleaved in the same rounds, so run `i` of one pairs with run `i` of
+/// another.
+fn ratios(m: &Measured, all: &[Measured]) -> Result<(Summary, Summary, Option<Summary>), StatsError> {
+    let v = m.timing.variant;
+    let same_kind = || all.iter().filter(|o| o.kind == m.kind);
+    let same_variant =
+        |o: &&Measured| o.timing.variant.kernel == v.kernel && o.timing.variant.block == v.block;
+    let over = |o: &Measured| Summary::paired_ratio(&m.mrays, &o.mrays);
+    let first = same_kind().next().unwrap_or(m);
+    let fewest = same_kind()
+        .filter(|o| o.engine == m.engine && same_variant(o))
+        .min_by_key(|o| o.timing.variant.threads)
+        .unwrap_or(m);
+    let embree = same_kind().find(|o| {
+        m.engine == Engine::Raypack
+            && o.engine == Engine::Embree
+            && same_variant(o)
+            && o.timing.variant.threads == v.threads
+    });
+    Ok((over(first)?, over(fewest)?, embree.map(over).transpose()?))
+}
+
+fn print_table(rows: &[SceneRow]) {
+    println!(
+        "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9} {:>15} {:>15} {:>15}",
+        "rays",
+        "engine",
+        "kernel",
+        "block",
+        "threads",
+        "Mrays/s",
+        "median ms",
+        "vs first",
+        "vs fewest t",
+        "vs embree"
+    );
+    for r in rows {
+        let vs_embree = r.vs_embree.map_or(String::new(), |x| figure(&x, 2, "x"));
+        println!(
+            "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9.2} {:>15} {:>15} {:>15}",
+            r.rays_kind,
+            r.engine,
+            r.kernel,
+            r.block,
+            r.threads,
+            figure(&r.mrays_per_s, 3, ""),
+            r.rays as f64 / r.mrays_per_s.median / 1e3,
+            figure(&r.ratio, 2, "x"),
+            figure(&r.vs_fewest_threads, 2, "x"),
+            vs_embree
+        );
+    }
+}

@@ -1,0 +1,299 @@
+//! `raypack bench traversal`: BVH build times and traversal throughput per
+//! scene, engine, ray kind and thread count, single rays against 8-ray packets.
+
+use clap::Args;
+
+use crate::bench::rays::RayKind;
+use crate::bench::traversal::EngineVariant;
+use crate::bench::traversal::{Builder, TraversalRow, TraversalSetup, measure, scene_bounds};
+use crate::cli::args::{load_scene, parse_size};
+use crate::cli::bench::{Output, Run, figure};
+use crate::cli::{CliError, CliResult};
+use crate::engine::{EmbreeIsa, Engine};
+use crate::scene::generate::random::framing_camera;
+
+/// Options of `bench traversal`.
+#[derive(Args, Debug)]
+pub struct TraversalArgs {
+    /// The scene to measure (a file such as assets/dragon.ply, or
+    /// `gen:NAME[:N[:SEED]]`), with its camera or a framing one; without it, a
+    /// family of generated scenes of `--sizes` primitives.
+    pub scene: Option<std::path::PathBuf>,
+    /// Generated scene family when no SCENE is given: `mesh` (bumpy-sphere
+    /// triangles) or `spheres`.
+    #[arg(long, default_value = "mesh", value_parser = ["mesh", "spheres"])]
+    pub generated: String,
+    /// Primitive counts of the generated scenes.
+    #[arg(long, value_delimiter = ',', default_value = "1000,10000,100000,1000000")]
+    pub sizes: Vec<usize>,
+    /// Image size of the primary rays, WIDTHxHEIGHT.
+    #[arg(long, value_parser = parse_size, default_value = "1024x1024")]
+    pub size: (u32, u32),
+    /// Random rays per scene.
+    #[arg(long, default_value_t = 1 << 20)]
+    pub random: usize,
+    /// Ray kinds to measure, comma-separated: `primary`, `shadow` (any hit, to
+    /// the scene's first light or a point above its box), `ao` (any hit,
+    /// cosine-distributed, a tenth of the box's diagonal long), `diffuse`
+    /// (nearest hit, cosine-distributed) and `random`.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = RayKind::ALL)]
+    pub rays: Vec<RayKind>,
+    /// Thread counts to measure with.
+    #[arg(long, value_delimiter = ',', default_value = "1")]
+    pub threads: Vec<usize>,
+    /// Timed rounds per variant, interleaved (a 95% interval needs 6 or more).
+    #[arg(long, default_value_t = 10)]
+    pub rounds: usize,
+    /// Engines to measure, comma-separated (`embree` needs the `embree` feature);
+    /// each engine's time per ray grows from its own first scene.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "raypack")]
+    pub engine: Vec<Engine>,
+    /// Embree's kernels, comma-separated, each measured as an engine of its
+    /// own: `avx2` (8-wide, as raypack's packets) and `default` (Embree's own
+    /// choice for the CPU, AVX-512 where there is one).
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [EmbreeIsa::Avx2, EmbreeIsa::Default])]
+    pub embree_isa: Vec<EmbreeIsa>,
+    /// Output and baselines.
+    #[command(flatten)]
+    pub output: Output,
+}
+
+/// Measure and report.
+pub fn run(args: TraversalArgs) -> CliResult {
+    let run = Run::start(&args.output, "traversal")?;
+    // Ask for the engines before generating scenes: Embree may be missing.
+    let first_threads = args.threads.first().copied().unwrap_or(1);
+    let mut builder =
+        Builder::new(&args.engine, &args.embree_isa, first_threads).map_err(CliError::BadInput)?;
+
+    let (width, height) = args.size;
+    let setups: Vec<TraversalSetup> = match &args.scene {
+        Some(path) => {
+            let (scene, _) = load_scene(path)?;
+            let camera = match scene.camera {
+                Some(spec) => spec.camera_at(width, height),
+                None => Ok(framing_camera(scene_bounds(&scene.primitives), width, height)),
+            }
+            .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
+            let name = path
+                .file_stem()
+                .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+            let light = scene.lights.first().map(|l| l.position);
+            vec![TraversalSetup::new(
+                name,
+                scene.primitives,
+                &camera,
+                light,
+                args.random,
+                &args.rays,
+            )]
+        }
+        None => args
+            .sizes
+            .iter()
+            .filter_map(|&n| {
+                TraversalSetup::generated(&args.generated, n, args.size, args.random, &args.rays)
+            })
+            .collect(),
+    };
+    let mut rows = Vec::new();
+    for &threads in &args.threads {
+        if builder.threads() != threads.max(1) {
+            // Embree's device takes the thread count, and its thread limit is
+            // process-wide: the old device goes before the new one is made.
+            drop(builder);
+            builder = Builder::new(&args.engine, &args.embree_isa, threads).map_err(CliError::Failed)?;
+        }
+        let measured =
+            measure(&setups, &builder, args.rounds.max(1), &run.slowdown).map_err(CliError::Failed)?;
+        rows.extend(measured);
+    }
+    // The environment's Embree device comes after the last measuring one.
+    drop(builder);
+    let figures = rows.iter().flat_map(TraversalRow::figures).collect();
+    let embree = args
+        .engine
+        .contains(&Engine::Embree)
+        .then(|| args.embree_isa.first().map(|isa| isa.config(first_threads)))
+        .flatten();
+    run.finish(rows, figures, embree.as_deref(), |rows| {
+        for &threads in &args.threads {
+            let of_threads: Vec<TraversalRow> = rows
+                .iter()
+                .filter(|r| r.threads == threads.max(1))
+                .cloned()
+                .collect();
+            print_traversal(&of_threads);
+        }
+        println!(
+            "({} rounds after a warm-up, scenes, engines, ray kinds and variants interleaved round by \
+             round; ratios from the rounds paired; random rays: {} from the scene box, uniform directions; \
+             secondary rays from the primary hits; transparent huge pages: {})",
+            args.rounds,
+            args.random,
+            crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
+        );
+    })
+}
+
+/// The rows of one thread count as a table, then each engine's growth of time
+/// per ray from the first scene, then raypack's speed over Embree's per scene.
+fn print_traversal(rows: &[TraversalRow]) {
+    for row in rows {
+        let sah = row
+            .sah_cost
+            .map_or(String::new(), |c| format!("  SAH cost {c:.1}"));
+        println!(
+            "{:<14} {:>8} prims {:<7} {}t  build {} ms{sah}  primary rays {}x{}",
+            row.scene,
+            row.primitives,
+            row.variant().name(),
+            row.threads,
+            figure(&row.build_ms, 1, ""),
+            row.resolution.0,
+            row.resolution.1,
+        );
+        for k in &row.kinds {
+            let counts = match (&k.single_stats, &k.packet_stats) {
+                (Some(s), Some(p)) => format!("  [single {}; packet {}]", s.caption(), p.caption()),
+                _ => String::new(),
+            };
+            println!(
+                "  {:<8} {:>8} rays {:>5.1}% hit: single {:>15} packet8 {:>15} Mrays/s ({}){counts}",
+                k.kind.name(),
+                k.rays,
+                100.0 * k.hits as f64 / k.rays.max(1) as f64,
+                figure(&k.single_mrays, 2, ""),
+                figure(&k.packet_mrays, 2, ""),
+                figure(&k.packet_vs_single, 2, "x"),
+            );
+        }
+    }
+    let mut variants: Vec<EngineVariant> = Vec::new();
+    for row in rows {
+        if !variants.contains(&row.variant()) {
+            variants.push(row.variant());
+        }
+    }
+    for variant in variants {
+        let of_engine: Vec<&TraversalRow> = rows.iter().filter(|r| r.variant() == variant).collect();
+        if let [first, rest @ ..] = of_engine.as_slice() {
+            for row in rest {
+                let kinds: Vec<String> = row
+                    .kinds
+                    .iter()
+                    .map(|k| {
+                        let [single, packet] = k.growth_vs_first.map(|g| figure(&g, 2, "x"));
+                        format!("{} single {single} packet8 {packet}", k.kind.name())
+                    })
+                    .collect();
+                println!(
+                    "time per ray, {}, {} -> {} ({}t, same rounds): {}",
+                    variant.name(),
+                    first.scene,
+                    row.scene,
+                    row.threads,
+                    kinds.join(", "),
+                );
+            }
+        }
+    }
+    print_growth_against_embree(rows);
+    for ours in rows.iter().filter(|r| r.engine == Engine::Raypack) {
+        let theirs = embree_rows(rows, &ours.scene);
+        let Some(fastest_build) = theirs.iter().map(|r| r.build_ms.median).reduce(f64::min) else {
+            continue;
+        };
+        println!(
+            "raypack / Embree, {} ({}t, same rounds): build time {:.2}x by medians against Embree's faster setting (both on {}t)",
+            ours.scene,
+            ours.threads,
+            ours.build_ms.median / fastest_build,
+            ours.threads,
+        );
+        for (k, a) in ours.kinds.iter().enumerate() {
+            let ratios: Vec<String> = theirs
+                .iter()
+                .map(|r| {
+                    let b = &r.kinds[k];
+                    format!(
+                        "vs {}: single {:.2}x packet8 {:.2}x",
+                        r.variant().name(),
+                        a.single_mrays.median / b.single_mrays.median,
+                        a.packet_mrays.median / b.packet_mrays.median
+                    )
+                })
+                .collect();
+            let paired = a.vs_embree.map_or(String::new(), |[single, packet]| {
+                format!(
+                    "; paired vs {}: single {} packet8 {}",
+                    theirs[0].variant().name(),
+                    figure(&single, 2, "x"),
+                    figure(&packet, 2, "x")
+                )
+            });
+            let ((best_a, path_a), (best_b, path_b)) = (a.best(), best_embree(&theirs, k));
+            println!(
+                "  {:<8} Mrays/s {}{paired}; best by medians {:.2}x (raypack {path_a} {best_a:.2} vs {path_b} {best_b:.2})",
+                a.kind.name(),
+                ratios.join("; "),
+                best_a / best_b,
+            );
+        }
+    }
+}
+
+/// Embree's rows on `scene`, one per ISA setting measured.
+fn embree_rows<'a>(rows: &'a [TraversalRow], scene: &str) -> Vec<&'a TraversalRow> {
+    rows.iter()
+        .filter(|r| r.engine == Engine::Embree && r.scene == scene)
+        .collect()
+}
+
+/// Embree's best path on kind `k` over the rows of its settings, by medians:
+/// Mrays/s and which it was (`embree(avx2) packet8`…).
+fn best_embree(rows: &[&TraversalRow], k: usize) -> (f64, String) {
+    rows.iter()
+        .map(|r| {
+            let (mrays, path) = r.kinds[k].best();
+            (mrays, format!("{} {path}", r.variant().name()))
+        })
+        .fold((0.0, String::new()), |a, b| if b.0 > a.0 { b } else { a })
+}
+
+/// Per ray kind, how the time per ray of each engine's best path (single rays
+/// or packets, whichever is faster on each scene by medians; for Embree also
+/// the faster of its ISA settings) grows from the first scene to each later
+/// one, raypack's growth beside Embree's.
+fn print_growth_against_embree(rows: &[TraversalRow]) {
+    let ours: Vec<&TraversalRow> = rows.iter().filter(|r| r.engine == Engine::Raypack).collect();
+    let Some(our_first) = ours.first() else { return };
+    let their_first = embree_rows(rows, &our_first.scene);
+    if their_first.is_empty() {
+        return;
+    }
+    for our_row in ours.iter().skip(1) {
+        let theirs = embree_rows(rows, &our_row.scene);
+        if theirs.is_empty() {
+            continue;
+        }
+        let kinds: Vec<String> = (0..our_row.kinds.len())
+            .map(|k| {
+                let ours = our_first.kinds[k].best().0 / our_row.kinds[k].best().0;
+                let theirs = best_embree(&their_first, k).0 / best_embree(&theirs, k).0;
+                format!(
+                    "{} {ours:.2}x vs {theirs:.2}x ({:+.0}%)",
+                    our_row.kinds[k].kind.name(),
+                    100.0 * (ours / theirs - 1.0)
+                )
+            })
+            .collect();
+        println!(
+            "growth of time per ray (best path), raypack vs Embree, {} -> {} ({}t): {}",
+            our_first.scene,
+            our_row.scene,
+            our_row.threads,
+            kinds.join(", ")
+        );
+    }
+}

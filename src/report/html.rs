@@ -1,0 +1,53 @@
+//! HTML text: escaping, and images inlined as data URIs (the page must load
+//! nothing from the network or the disk).
+
+use base64::Engine as _;
+use base64::engine::general_purpose::STANDARD;
+
+/// `text` safe inside an element or a double-quoted attribute.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// An `<img>` of the SVG document `svg`, inlined as a base64 data URI.
+pub fn svg_image(svg: &str, alt: &str) -> String {
+    format!(
+        "<img src=\"data:image/svg+xml;base64,{}\" alt=\"{}\">",
+        STANDARD.encode(svg),
+        escape(alt)
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escapes_markup_and_quotes() {
+        assert_eq!(
+            escape("a<b & \"c\" 'd'>"),
+            "a&lt;b &amp; &quot;c&quot; &#39;d&#39;&gt;"
+        );
+        assert_eq!(escape("±5% Mrays/s"), "±5% Mrays/s");
+    }
+
+    #[test]
+    fn inlines_svg_as_base64() {
+        let img = svg_image("<svg/>", "a \"chart\"");
+        assert_eq!(
+            img,
+            "<img src=\"data:image/svg+xml;base64,PHN2Zy8+\" alt=\"a &quot;chart&quot;\">"
+        );
+    }
+}

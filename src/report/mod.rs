@@ -1,0 +1,30 @@
+//! `raypack report`: one self-contained HTML page from the JSON results of
+//! `raypack bench … --json` (not to be confused with `picture::report`, a
+//! render's JSON sidecar). Charts are drawn with plotters as SVG and inlined
+//! as data URIs, so the page loads nothing from anywhere.
+//!
+//! [`page`] lays the page out; [`chart`] draws a figure group's medians as bars
+//! with their 95% intervals; [`lines`] draws figures over thread counts or
+//! scene sizes;
+//! [`html`] escapes text and inlines images.
+
+pub mod chart;
+pub mod html;
+pub mod lines;
+pub mod page;
+
+/// Why a page could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// No result to report.
+    #[error("no results to report")]
+    Empty,
+    /// A chart failed to draw.
+    #[error("chart {title:?}: {reason}")]
+    Chart {
+        /// The chart's title.
+        title: String,
+        /// What plotters said.
+        reason: String,
+    },
+}

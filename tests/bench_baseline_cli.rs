@@ -1,0 +1,179 @@
+//! `--save-baseline NAME` / `--baseline NAME`: a run stored, and a later run
+//! compared with it figure by figure. Two runs of one build show no
+//! significant change (beyond the default ±5% noise threshold) on at least
+//! 95% of the figures; a variant slowed through the bench timing hook
+//! (`RAYPACK_TEST_SLOWDOWN`) shows as slower.
+
+mod cli_support;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use cli_support::{scratch, stderr};
+
+/// `raypack` with `args`, its baselines in `dir`, and `env` set.
+fn raypack_in(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raypack"))
+        .args(args)
+        .env("RAYPACK_BASELINE_DIR", dir)
+        .env_remove("RAYPACK_TEST_SLOWDOWN")
+        .envs(env.iter().copied())
+        .output()
+        .unwrap()
+}
+
+/// A `bench kernels` of 40 figures (8 primitives: 4 kernels and a ratio) in
+/// about two seconds: 10 rounds give a 97.9% interval of each median.
+const KERNELS: [&str; 10] = [
+    "bench",
+    "kernels",
+    "--rays",
+    "512",
+    "--rounds",
+    "10",
+    "--sample-ms",
+    "4",
+    "--seed",
+    "3",
+];
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
+}
+
+#[test]
+fn an_unchanged_build_shows_no_significant_change_and_a_slowed_variant_shows_as_slower() {
+    let dir = scratch("baseline");
+    let saved = json(&raypack_in(
+        &dir,
+        &[&KERNELS[..], &["--json", "--save-baseline", "before"]].concat(),
+        &[],
+    ));
+    assert!(dir.join("before.json").is_file());
+    assert!(saved["comparison"].is_null());
+
+    // A shared machine also moves between runs, now and then by more than the
+    // noise threshold: on the 2-vCPU VM this was written on (load 3.5, two
+    // fuzzers beside it) one run in four had 3 to 7 of the 40 figures beyond
+    // ±5%, in bursts (every sphere and plane figure 6–16% slower at once).
+    // So the claim is checked on up to five fresh runs: one of them must show
+    // no significant change on 95% of its figures.
+    let mut attempts = Vec::new();
+    for _ in 0..5 {
+        let same = json(&raypack_in(
+            &dir,
+            &[&KERNELS[..], &["--json", "--baseline", "before"]].concat(),
+            &[],
+        ));
+        let comparison = &same["comparison"];
+        assert_eq!(comparison["baseline"], "before");
+        assert_eq!(comparison["unmatched"].as_array().map(Vec::len), Some(0));
+        let changes = comparison["changes"].as_array().unwrap();
+        assert_eq!(changes.len(), 40);
+        let unchanged = changes
+            .iter()
+            .filter(|c| c["verdict"] == "no significant change")
+            .count();
+        attempts.push(unchanged);
+        if unchanged * 100 >= 95 * changes.len() {
+            break;
+        }
+        eprintln!("{unchanged} of 40 figures unchanged: {comparison:#}");
+    }
+    assert!(
+        attempts.iter().any(|&n| n * 100 >= 95 * 40),
+        "figures unchanged per run: {attempts:?} of 40"
+    );
+
+    // The hook makes every packet8 sample ten times as long: a change no load
+    // burst of a shared machine imitates (three times was reported as slower
+    // too, except while a release build ran beside the test: -21% [-40%, +89%]).
+    let slowed = json(&raypack_in(
+        &dir,
+        &[&KERNELS[..], &["--json", "--baseline", "before"]].concat(),
+        &[("RAYPACK_TEST_SLOWDOWN", "packet8:10")],
+    ));
+    let changes = slowed["comparison"]["changes"].as_array().unwrap();
+    let packet8: Vec<&serde_json::Value> = changes
+        .iter()
+        .filter(|c| c["key"].as_str().unwrap().contains("kernel=packet8"))
+        .collect();
+    assert_eq!(packet8.len(), 8);
+    for c in packet8 {
+        assert_eq!(c["verdict"], "slower", "{c}");
+        assert!(c["change_high"].as_f64().unwrap() < 0.0, "{c}");
+    }
+    // The text output says so too.
+    let text = raypack_in(
+        &dir,
+        &[&KERNELS[..], &["--baseline", "before"]].concat(),
+        &[("RAYPACK_TEST_SLOWDOWN", "packet8:10")],
+    );
+    assert!(text.status.success(), "{}", stderr(&text));
+    let text = String::from_utf8(text.stdout).unwrap();
+    assert!(text.contains("against baseline before"), "{text}");
+    let line = text
+        .lines()
+        .find(|l| l.contains("throughput kernel=packet8 primitive=sphere"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(line.ends_with("slower"), "{line}");
+    assert!(text.contains("beyond ±5%"), "{text}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A missing baseline, a name that would leave the directory, a baseline of
+/// another bench command and a malformed hook are the user's errors (exit 2),
+/// reported before anything is measured.
+#[test]
+fn bad_baselines_are_the_users_error() {
+    let dir = scratch("baseline-errors");
+    let tiny = [
+        "bench",
+        "kernels",
+        "--rays",
+        "8",
+        "--rounds",
+        "1",
+        "--sample-ms",
+        "1",
+    ];
+    let run = |extra: &[&str], env: &[(&str, &str)]| raypack_in(&dir, &[&tiny[..], extra].concat(), env);
+    let out = run(&["--baseline", "nothing"], &[]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--save-baseline nothing"),
+        "{}",
+        stderr(&out)
+    );
+    for bad in ["../up", ".hidden", "a/b", ""] {
+        let out = run(&["--save-baseline", bad], &[]);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(stderr(&out).contains("baseline name"), "{bad}: {}", stderr(&out));
+    }
+    let out = run(&[], &[("RAYPACK_TEST_SLOWDOWN", "packet8")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("VARIANT:FACTOR"), "{}", stderr(&out));
+    let out = run(&["--save-baseline", "k"], &[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
+    let out = raypack_in(
+        &dir,
+        &[
+            "bench",
+            "scene",
+            scene,
+            "--size",
+            "8x8",
+            "--runs",
+            "1",
+            "--baseline",
+            "k",
+        ],
+        &[],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("`bench kernels`"), "{}", stderr(&out));
+    assert!(out.stdout.is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
