@@ -342,8 +342,8 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
     let defaults = [&TINY_TRAVERSAL[..], &["--engine", "raypack,embree"]].concat();
     let o = raypack().args(&defaults).arg("--json").output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let rows: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let engines: Vec<String> = rows.as_array().unwrap()[..3]
+    let result: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let engines: Vec<String> = result["rows"].as_array().unwrap()[..3]
         .iter()
         .map(|r| format!("{} {}", r["engine"], r["embree_isa"]))
         .collect();

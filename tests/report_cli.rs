@@ -62,6 +62,18 @@ fn the_report_loads_in_headless_chromium_and_shows_its_charts() {
         ],
         &kernels_json,
     );
+    // A timing-annotated render with its heat map, shown on the page.
+    let render = dir.join("render.png");
+    let o = raypack(&[
+        "render",
+        scene,
+        "-o",
+        render.to_str().unwrap(),
+        "--size",
+        "96x64",
+        "--heatmap",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
     let html_path = dir.join("report.html");
     let o = raypack(&[
         "report",
@@ -69,17 +81,20 @@ fn the_report_loads_in_headless_chromium_and_shows_its_charts() {
         kernels_json.to_str().unwrap(),
         "-o",
         html_path.to_str().unwrap(),
+        "--image",
+        render.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let html = std::fs::read_to_string(&html_path).unwrap();
     // Self-contained: every image inlined, nothing to fetch.
     let images = html.matches("<img ").count();
-    assert_eq!(
-        html.matches("<img src=\"data:image/svg+xml;base64,").count(),
-        images
-    );
+    let svgs = html.matches("<img src=\"data:image/svg+xml;base64,").count();
+    let pngs = html.matches("<img src=\"data:image/png;base64,").count();
+    assert_eq!(svgs + pngs, images);
     // scene: throughput, vs first row, vs fewest threads, scaling; kernels: throughput, ratio.
-    assert_eq!(images, 6, "{html}");
+    assert_eq!(svgs, 6, "{html}");
+    assert_eq!(pngs, 1, "the render");
+    assert!(html.contains("<figcaption>render.png</figcaption>"));
     assert!(
         !html.contains("http:") && !html.contains("https:"),
         "nothing fetched"
@@ -158,5 +173,35 @@ fn bad_results_are_the_users_error_and_nothing_is_written() {
     }
     let o = raypack(&["report", "-o", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "results are required");
+    // A picture that is not a PNG.
+    let result = dir.join("kernels.json");
+    let o = raypack(&[
+        "bench",
+        "kernels",
+        "--rays",
+        "16",
+        "--rounds",
+        "6",
+        "--sample-ms",
+        "1",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::write(&result, &o.stdout).unwrap();
+    let o = raypack(&[
+        "report",
+        result.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--image",
+        not_a_result.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("rows.json: not a PNG image"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1,6 +1,7 @@
 //! `raypack report RESULTS.json… -o report.html`: one self-contained HTML page
 //! of bench results (`raypack bench … --json`): charts of every figure with
-//! its interval, thread scaling, ratios, comparisons and the environment.
+//! its interval, thread scaling, ratios, comparisons and the environment, and
+//! the pictures given with `--image` (annotated renders, heat maps).
 
 use std::path::PathBuf;
 
@@ -8,7 +9,8 @@ use crate::atomic_file::AtomicFile;
 use crate::bench::result::StoredResult;
 use crate::cli::{CliError, CliResult};
 use crate::environment::Environment;
-use crate::report::page::{Input, page};
+use crate::report::html::is_png;
+use crate::report::page::{Input, Picture, page};
 
 /// Options of `report`.
 #[derive(clap::Args, Debug)]
@@ -19,6 +21,9 @@ pub struct Args {
     /// The HTML page to write.
     #[arg(short, long)]
     pub output: PathBuf,
+    /// A PNG to show on the page (an annotated render, a heat map); repeatable.
+    #[arg(long = "image")]
+    pub images: Vec<PathBuf>,
 }
 
 /// Read the results and write the page.
@@ -42,7 +47,20 @@ pub fn run(args: Args) -> CliResult {
         );
         inputs.push(Input { name, result });
     }
-    let html = page(&inputs, &Environment::collect().date).map_err(|e| CliError::Failed(e.into()))?;
+    let mut pictures = Vec::new();
+    for path in &args.images {
+        let png = std::fs::read(path).map_err(|e| bad(format!("{}: {e}", path.display())))?;
+        if !is_png(&png) {
+            return Err(bad(format!("{}: not a PNG image", path.display())));
+        }
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        pictures.push(Picture { name, png });
+    }
+    let html =
+        page(&inputs, &pictures, &Environment::collect().date).map_err(|e| CliError::Failed(e.into()))?;
     file.commit(html.as_bytes())
         .map_err(|e| CliError::Failed(e.into()))?;
     Ok(())

@@ -29,6 +29,20 @@ pub fn svg_image(svg: &str, alt: &str) -> String {
     )
 }
 
+/// An `<img>` of the PNG file `png`, inlined as a base64 data URI.
+pub fn png_image(png: &[u8], alt: &str) -> String {
+    format!(
+        "<img src=\"data:image/png;base64,{}\" alt=\"{}\">",
+        STANDARD.encode(png),
+        escape(alt)
+    )
+}
+
+/// True when `bytes` start with the PNG signature.
+pub fn is_png(bytes: &[u8]) -> bool {
+    bytes.starts_with(b"\x89PNG\r\n\x1a\n")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -40,6 +54,16 @@ mod tests {
             "a&lt;b &amp; &quot;c&quot; &#39;d&#39;&gt;"
         );
         assert_eq!(escape("±5% Mrays/s"), "±5% Mrays/s");
+    }
+
+    #[test]
+    fn inlines_png_as_base64_and_knows_its_signature() {
+        let png = b"\x89PNG\r\n\x1a\nrest";
+        assert!(is_png(png) && !is_png(b"GIF89a"));
+        assert_eq!(
+            png_image(png, "<r>"),
+            "<img src=\"data:image/png;base64,iVBORw0KGgpyZXN0\" alt=\"&lt;r&gt;\">"
+        );
     }
 
     #[test]

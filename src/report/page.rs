@@ -11,7 +11,7 @@ use crate::bench::figure::Figure;
 use crate::bench::result::StoredResult;
 use crate::report::ReportError;
 use crate::report::chart::{Bar, interval_bars};
-use crate::report::html::{escape, svg_image};
+use crate::report::html::{escape, png_image, svg_image};
 use crate::report::lines::{Line, XAxis, over};
 
 /// A result file to report.
@@ -21,6 +21,15 @@ pub struct Input {
     pub name: String,
     /// What it holds.
     pub result: StoredResult,
+}
+
+/// A picture shown with the figures: an annotated render, a heat map.
+#[derive(Clone, Debug)]
+pub struct Picture {
+    /// Its caption (the file name).
+    pub name: String,
+    /// The PNG file's bytes.
+    pub png: Vec<u8>,
 }
 
 /// The order labels are read in a bar's label; others follow by name.
@@ -55,8 +64,8 @@ td,th{border:1px solid #ddd;padding:2px 8px;text-align:left}\
 td.num{text-align:right;font-variant-numeric:tabular-nums}\
 .slower,.lower{color:#b00}.faster,.higher{color:#070}img{display:block;margin:1em 0;max-width:100%}";
 
-/// The page of `inputs`, made at `date`.
-pub fn page(inputs: &[Input], date: &str) -> Result<String, ReportError> {
+/// The page of `inputs` and `pictures`, made at `date`.
+pub fn page(inputs: &[Input], pictures: &[Picture], date: &str) -> Result<String, ReportError> {
     if inputs.is_empty() {
         return Err(ReportError::Empty);
     }
@@ -79,6 +88,18 @@ pub fn page(inputs: &[Input], date: &str) -> Result<String, ReportError> {
     );
     for input in inputs {
         section(&mut out, input)?;
+    }
+    if !pictures.is_empty() {
+        out.push_str("<section><h2>Pictures</h2>\n");
+        for p in pictures {
+            let _ = writeln!(
+                out,
+                "<figure>{}<figcaption>{}</figcaption></figure>",
+                png_image(&p.png, &p.name),
+                escape(&p.name)
+            );
+        }
+        out.push_str("</section>\n");
     }
     out.push_str("</body></html>\n");
     Ok(out)
@@ -402,12 +423,18 @@ mod tests {
                 1.9,
             ),
         ];
-        let html = page(&[input(figures)], "2026-01-01T00:00:00Z").unwrap();
+        let picture = Picture {
+            name: "render <a>.png".into(),
+            png: b"\x89PNG\r\n\x1a\n".to_vec(),
+        };
+        let html = page(&[input(figures)], &[picture], "2026-01-01T00:00:00Z").unwrap();
         assert!(html.starts_with("<!DOCTYPE html>"));
         assert!(html.contains("scene &lt;1&gt;.json"));
-        // Two images (the group, the scaling), inlined; nothing fetched.
+        // Two charts (the group, the scaling) and the picture, inlined; nothing fetched.
         assert_eq!(html.matches("<img src=\"data:image/svg+xml;base64,").count(), 2);
+        assert_eq!(html.matches("<img src=\"data:image/png;base64,").count(), 1);
+        assert!(html.contains("<figcaption>render &lt;a&gt;.png</figcaption>"));
         assert!(!html.contains("http"), "nothing to fetch");
-        assert!(matches!(page(&[], ""), Err(ReportError::Empty)));
+        assert!(matches!(page(&[], &[], ""), Err(ReportError::Empty)));
     }
 }
