@@ -47,12 +47,22 @@ if [ "${1:-}" = --measure ]; then
         --size 256x256 --threads 1,2 --engine "$ENGINES" --json
     into docs/results/traversal.json "$RAYPACK" bench traversal --sizes 1000,10000,100000 \
         --size 256x256 --random 65536 --threads 1,2 --engine "$ENGINES" --json
+    # Every ray kind on the SPD balls and (once scripts/fetch-assets.sh has run) the dragon.
+    into docs/results/traversal-spd_balls.json "$RAYPACK" bench traversal scenes/spd_balls.nff \
+        --size 512x512 --random 262144 --threads 1,2 --rounds 6 --engine "$ENGINES" --json
+    if [ -f assets/dragon.ply ]; then
+        into docs/results/traversal-dragon.json "$RAYPACK" bench traversal assets/dragon.ply \
+            --size 512x512 --random 262144 --threads 1,2 --rounds 6 --engine "$ENGINES" --json
+    fi
 elif [ -n "${1:-}" ]; then
     echo "usage: scripts/report.sh [--measure]" >&2
     exit 2
 fi
 
-"$RAYPACK" report docs/results/*.json -o docs/report.html
+# The timing-annotated renders and cost heat maps the README shows go on the page too.
+"$RAYPACK" report docs/results/*.json -o docs/report.html \
+    --image docs/render-lecture.png --image docs/render-spd-balls-small-cost.png \
+    --image docs/render-dragon-cost.png
 echo "wrote docs/report.html" >&2
 # Chromium writes PNG only to a name ending in .png.
 chromium --headless --disable-gpu --no-sandbox --hide-scrollbars --window-size=1200,2400 \
