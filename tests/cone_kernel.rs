@@ -395,3 +395,67 @@ fn a_cone_does_not_grow_the_primitive_enum() {
     // The cone (76 bytes) fits in the space the triangle (80 bytes) already takes.
     assert!(std::mem::size_of::<Cone>() <= std::mem::size_of::<raypack::geometry::Triangle>());
 }
+
+/// A cone 43951 long and about 0.1 wide (the fuzzer's, tests/data/fuzz/), hit
+/// by rays near its base: every hit lies on the surface, and a ray passing 0.7
+/// off the axis misses. Re-based at the segment's midpoint, 22000 away, the
+/// kernel lost the radius in rounding and reported such a ray as a hit.
+#[test]
+fn long_thin_cones_keep_their_radius() {
+    let cone = Cone::new(
+        Vec3::new(0.0, 0.0, 1.0),
+        0.1005,
+        Vec3::new(43951.0, 0.172546, 7.40149e-17),
+        0.166667,
+    )
+    .unwrap();
+    let model = Model::new(&cone);
+    let fuzzed = Ray::unbounded(
+        Vec3::new(1.6042808, 0.8710984, 0.87661725),
+        Vec3::new(-0.47101393, -0.4075264, -0.78234786),
+    );
+    assert_eq!(both_t(&cone, &fuzzed), None);
+    let mut rng = Rng::new(78);
+    let mut hits = 0;
+    for _ in 0..20_000 {
+        // From around the first few units of the axis, towards a point near it.
+        let near_axis = Vec3::new(rng.range(0.0, 5.0), 0.0, 1.0) + 0.15 * rng.unit_vector();
+        let origin = near_axis + rng.range(0.5, 3.0) * rng.unit_vector();
+        let r = Ray::unbounded(origin, (near_axis - origin).normalize());
+        if let Some(t) = both_t(&cone, &r) {
+            let (off, _) = model.residual(r.origin.as_dvec3() + t as f64 * r.dir.as_dvec3());
+            assert!(off <= 1e-3, "hit {off} off the surface, ray {r:?}");
+            hits += 1;
+        }
+    }
+    assert!(hits > 2_000, "{hits} hits: too few for a meaningful test");
+}
+
+/// The fuzzer's scene: single rays, packets and brute force give the same hit
+/// (the cone's false hit lay outside its box, so only the BVH's single rays missed it).
+#[test]
+fn the_fuzzers_long_cone_scene_traces_alike_every_way() {
+    use raypack::accel::{Accel, BruteForce, Bvh};
+    use raypack::packet::RayPacket8;
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/fuzz/pipeline_long_thin_cone.nff"
+    );
+    let scene = raypack::scene::load(std::path::Path::new(path)).unwrap();
+    let bvh = Bvh::new(&scene.primitives);
+    let brute = BruteForce::new(&scene.primitives);
+    let ray = Ray::unbounded(
+        Vec3::new(1.6042808, 0.8710984, 0.87661725),
+        Vec3::new(-0.47101393, -0.4075264, -0.78234786),
+    );
+    let single = bvh.intersect(&ray);
+    assert_eq!(single, brute.intersect(&ray));
+    assert_eq!(
+        bvh.intersect_packet(&RayPacket8::from_rays(&[ray; 8])).hit(5),
+        single
+    );
+    assert!(matches!(
+        scene.primitives[single.prim as usize],
+        Primitive::Polygon(_)
+    ));
+}

@@ -145,7 +145,12 @@ fn mirror_glass_scene_has_mirrors_glass_and_lights_in_view() {
 fn fuzz_findings_load_or_fail_cleanly() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
     // File, and the primitives it loads (Ok) or what its error says (Err).
-    let findings: [(&str, Result<usize, &str>); 2] = [
+    let findings: [(&str, Result<usize, &str>); 3] = [
+        // A cone 43951 long and 0.1 wide (and a sphere of radius 2e21): its
+        // kernel reported a hit 0.7 off the axis, outside the cone's box, so
+        // the BVH's single rays and its packets disagreed (fuzz target
+        // pipeline); tests/cone_kernel.rs traces the ray.
+        ("pipeline_long_thin_cone.nff", Ok(46)),
         // 4294967295 instances of a property-less element (zero bytes each) in
         // a binary body: the reader looped over them (libFuzzer timeout).
         ("ply_propertyless_element.ply", Ok(1)),
