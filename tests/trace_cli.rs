@@ -124,3 +124,73 @@ fn embree_without_the_feature_is_a_clear_error() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("scripts/install-embree.sh"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn diff_classifies_the_rays_on_which_another_engines_hits_differ() {
+    let dir = temp_dir("trace-diff");
+    let scene = test_scenes::by_name("mixed", 120, 5).unwrap();
+    let rays = random_rays(scene.bounds(), 300, 3);
+    std::fs::write(dir.join("rays.csv"), format_rays(&rays)).unwrap();
+    let trace = |diff: Option<&PathBuf>| {
+        let mut c = raypack();
+        c.args(["trace", "gen:mixed:120:5", "--rays"])
+            .arg(dir.join("rays.csv"))
+            .arg("--out")
+            .arg(dir.join("hits.csv"));
+        if let Some(d) = diff {
+            c.arg("--diff").arg(d);
+        }
+        c.output().unwrap()
+    };
+    assert!(trace(None).status.success());
+    let ours = std::fs::read_to_string(dir.join("hits.csv")).unwrap();
+    // Against itself: everything agrees.
+    let same = dir.join("same.csv");
+    std::fs::write(&same, &ours).unwrap();
+    let o = trace(Some(&same));
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.starts_with("300 rays compared with "), "{text}");
+    assert!(text.lines().skip(1).all(|l| l.ends_with(" 0")), "{text}");
+    // Another engine's file with one miss, one other primitive and one t far off.
+    let mut lines: Vec<String> = ours.lines().map(String::from).collect();
+    let hit_rows: Vec<usize> = (1..lines.len())
+        .filter(|&i| lines[i] != "inf,-1")
+        .take(3)
+        .collect();
+    let (t, prim) = lines[hit_rows[1]]
+        .split_once(',')
+        .map(|(t, p)| (t.to_string(), p.to_string()))
+        .unwrap();
+    lines[hit_rows[0]] = "inf,-1".into();
+    let other_prim = (prim.parse::<u32>().unwrap() + 1) % 120;
+    lines[hit_rows[1]] = format!("{},{other_prim}", t.parse::<f32>().unwrap() * 2.0);
+    let (t, prim) = lines[hit_rows[2]]
+        .split_once(',')
+        .map(|(t, p)| (t.to_string(), p.to_string()))
+        .unwrap();
+    lines[hit_rows[2]] = format!("{},{prim}", t.parse::<f32>().unwrap() * 1.001);
+    let other = dir.join("other.csv");
+    std::fs::write(&other, lines.join("\n") + "\n").unwrap();
+    let o = trace(Some(&other));
+    assert!(o.status.success());
+    let text = String::from_utf8(o.stdout).unwrap();
+    for line in [
+        "hit only by raypack",
+        "different primitive",
+        "same primitive, t > 16 ulps apart",
+    ] {
+        let count = text.lines().find(|l| l.trim_start().starts_with(line)).unwrap();
+        assert!(count.ends_with(" 1"), "{line}: {text}");
+    }
+    // A file of another length is refused, naming both files.
+    std::fs::write(&other, "t,prim\ninf,-1\n").unwrap();
+    let o = trace(Some(&other));
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert!(
+        err.contains("other.csv: 1 hit for 300 rays: expected one line per ray"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

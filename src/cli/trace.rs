@@ -1,6 +1,7 @@
 //! `raypack trace SCENE --rays RAYS.csv --out HITS.csv [--engine raypack|embree]`:
 //! trace rays from a CSV file and write the nearest hit of each, so raypack can
-//! be compared with any engine (formats in [`crate::compare::csv`]).
+//! be compared with any engine (formats in [`crate::compare::csv`]); with
+//! `--diff OTHER.csv`, classify the rays on which another engine's hits differ.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -11,7 +12,9 @@ use crate::accel::AccelKind;
 use crate::atomic_file::AtomicFile;
 use crate::cli::args::load_scene;
 use crate::cli::{CliError, CliResult};
-use crate::compare::csv::{format_hits, read_rays};
+use crate::compare::csv::{format_hits, read_hits, read_rays};
+use crate::compare::diff_image::class_name;
+use crate::compare::{Agreement, AgreementOptions, DisagreementKind, classify_rays};
 use crate::compare::{Kernel, trace_rays};
 use crate::engine::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Engine};
 use crate::plural;
@@ -44,12 +47,32 @@ pub struct TraceArgs {
     /// Embree scene mode.
     #[arg(long, value_enum, default_value_t = EmbreeMode::Robust)]
     pub embree_mode: EmbreeMode,
+    /// Another engine's hits on the same rays (`t,prim` CSV): classify every
+    /// ray on which they differ from these, as `check` does, and print the counts.
+    #[arg(long)]
+    pub diff: Option<PathBuf>,
 }
 
 /// Run `trace`.
 pub fn run(args: TraceArgs) -> CliResult {
     let (scene, _) = load_scene(&args.scene)?;
     let rays = read_rays(&args.rays).map_err(|e| CliError::BadInput(e.into()))?;
+    let theirs = match &args.diff {
+        Some(path) => {
+            let hits = read_hits(path).map_err(|e| CliError::BadInput(e.into()))?;
+            if hits.len() != rays.len() {
+                return Err(CliError::BadInput(anyhow::anyhow!(
+                    "{}: {} for {}: expected one line per ray of {}",
+                    path.display(),
+                    plural::count(hits.len() as u64, "hit", "hits"),
+                    plural::count(rays.len() as u64, "ray", "rays"),
+                    args.rays.display()
+                )));
+            }
+            Some(hits)
+        }
+        None => None,
+    };
     // Claim the output before tracing, so an unwritable path fails at once.
     let out = AtomicFile::create(&args.out)?;
     let start = Instant::now();
@@ -69,7 +92,40 @@ pub fn run(args: TraceArgs) -> CliResult {
         seconds,
         args.out.display()
     );
+    if let Some(theirs) = theirs {
+        print_diff(&scene, &rays, &hits, &theirs, &args);
+    }
     Ok(())
+}
+
+/// The classes of the rays on which `ours` and `theirs` differ, counted.
+fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &TraceArgs) {
+    let options = AgreementOptions::default();
+    let classes = classify_rays(&scene.primitives, rays, ours, theirs, &options);
+    let agreement = Agreement::from_classes(rays, ours, theirs, &classes, options.keep);
+    let (a, b) = (args.engine.name(), "the --diff file");
+    println!(
+        "{} compared with {}: {} both miss, {} same primitive",
+        plural::count(rays.len() as u64, "ray", "rays"),
+        args.diff
+            .as_deref()
+            .map_or(String::new(), |p| p.display().to_string()),
+        agreement.both_miss,
+        agreement.same_primitive
+    );
+    for (kind, n) in [
+        (DisagreementKind::OnlyA, agreement.only_a),
+        (DisagreementKind::OnlyB, agreement.only_b),
+        (
+            DisagreementKind::DifferentPrimitive,
+            agreement.different_primitive,
+        ),
+        (DisagreementKind::Tie, agreement.ties),
+        (DisagreementKind::Coincident, agreement.coincident),
+        (DisagreementKind::TBeyondUlps, agreement.t_beyond_ulps),
+    ] {
+        println!("  {:<40} {n}", class_name(kind, a, b, options.max_ulps));
+    }
 }
 
 #[cfg(feature = "embree")]

@@ -11,7 +11,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::ray::{Hit, Ray};
+use crate::ray::{Hit, NO_HIT, Ray};
 
 /// The rays file's header.
 pub const RAYS_HEADER: &str = "ox,oy,oz,dx,dy,dz,tmin,tmax";
@@ -104,6 +104,77 @@ pub fn read_rays(path: &Path) -> Result<Vec<Ray>, CsvError> {
         message: format!("cannot read: {e}"),
     })?;
     parse_rays(&name, &text)
+}
+
+/// Parse the text of a hits file (what [`format_hits`] writes, `inf,-1` for a
+/// miss); `path` names it in errors.
+pub fn parse_hits(path: &str, text: &str) -> Result<Vec<Hit>, CsvError> {
+    let error = |line: usize, message: String| CsvError {
+        path: path.to_string(),
+        line: Some(line),
+        message,
+    };
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    match lines.find(|(_, l)| !l.is_empty()) {
+        Some((_, header)) if header.replace(' ', "") == HITS_HEADER => {}
+        Some((n, other)) => {
+            return Err(error(
+                n,
+                format!("expected the header `{HITS_HEADER}`, got `{other}`"),
+            ));
+        }
+        None => {
+            return Err(error(
+                1,
+                format!("empty file: expected the header `{HITS_HEADER}`"),
+            ));
+        }
+    }
+    let mut hits = Vec::new();
+    for (n, line) in lines.filter(|(_, l)| !l.is_empty()) {
+        let (t, prim) = line
+            .split_once(',')
+            .ok_or_else(|| error(n, format!("expected `t,prim`, got `{line}`")))?;
+        let t: f32 = t
+            .trim()
+            .parse()
+            .map_err(|_| error(n, format!("t: expected a number, got `{t}`")))?;
+        let prim: i64 = prim
+            .trim()
+            .parse()
+            .map_err(|_| error(n, format!("prim: expected an integer, got `{prim}`")))?;
+        let record = |t: f32, prim: u32| Hit {
+            t,
+            prim,
+            u: 0.0,
+            v: 0.0,
+            ng: glam::Vec3::ZERO,
+        };
+        let hit = match (prim, t) {
+            (-1, t) if t == f32::INFINITY => record(t, NO_HIT),
+            (-1, _) => return Err(error(n, format!("a miss is `inf,-1`, got t = {t}"))),
+            (p, t) if (0..i64::from(NO_HIT)).contains(&p) && t.is_finite() => record(t, p as u32),
+            _ => {
+                return Err(error(
+                    n,
+                    format!("expected a finite t and a primitive index, got `{line}`"),
+                ));
+            }
+        };
+        hits.push(hit);
+    }
+    Ok(hits)
+}
+
+/// Read a hits file.
+pub fn read_hits(path: &Path) -> Result<Vec<Hit>, CsvError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| CsvError {
+        path: name.clone(),
+        line: None,
+        message: format!("cannot read: {e}"),
+    })?;
+    parse_hits(&name, &text)
 }
 
 /// The text of a rays file.
@@ -214,5 +285,31 @@ mod tests {
             .parse()
             .unwrap();
         assert_eq!(t.to_bits(), (0.1f32 + 0.2f32).to_bits());
+        // And back, bit for bit.
+        let back = parse_hits("h.csv", &text).unwrap();
+        assert_eq!((back[0].t.to_bits(), back[0].prim), (hit.t.to_bits(), 7));
+        assert!(!back[1].is_hit() && back[1].t == f32::INFINITY);
+    }
+
+    #[test]
+    fn bad_hits_files_name_the_line_and_what_was_expected() {
+        for (text, says) in [
+            ("", "h.csv:1: empty file: expected the header `t,prim`"),
+            ("t,id\n", "h.csv:1: expected the header `t,prim`, got `t,id`"),
+            ("t,prim\n0.5\n", "h.csv:2: expected `t,prim`, got `0.5`"),
+            ("t,prim\n\nx,3\n", "h.csv:3: t: expected a number, got `x`"),
+            (
+                "t,prim\n0.5,-2\n",
+                "h.csv:2: expected a finite t and a primitive index, got `0.5,-2`",
+            ),
+            ("t,prim\n0.5,-1\n", "h.csv:2: a miss is `inf,-1`, got t = 0.5"),
+            (
+                "t,prim\nnan,1\n",
+                "h.csv:2: expected a finite t and a primitive index, got `nan,1`",
+            ),
+            ("t,prim\n1,2.5\n", "h.csv:2: prim: expected an integer, got `2.5`"),
+        ] {
+            assert_eq!(parse_hits("h.csv", text).unwrap_err().to_string(), says);
+        }
     }
 }
