@@ -146,11 +146,10 @@ fn fuzz_findings_load_or_fail_cleanly() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
     // File, and the primitives it loads (Ok) or what its error says (Err).
     let findings: [(&str, Result<usize, &str>); 4] = [
-        // A cylinder 958351 long and 0.07 wide: at its far end f32 keeps its
-        // coordinates to 0.06, so its kernel reports a hit 0.03 beyond the
-        // end, outside its box, and single rays and packets disagree (fuzz
-        // target pipeline). Open: the kernel would have to work from the
-        // nearer end of the axis (see fuzz/README.md).
+        // A cylinder 958351 long and 0.07 wide: measured from its base, f32
+        // kept its far end to 0.06 and its kernel took a hit 0.03 past it,
+        // outside its box, so single rays and packets disagreed (fuzz target
+        // pipeline); tests/cone_kernel.rs traces the ray.
         ("pipeline_long_cylinder_end.nff", Ok(44)),
         // A cone 43951 long and 0.1 wide (and a sphere of radius 2e21): its
         // kernel reported a hit 0.7 off the axis, outside the cone's box, so

@@ -106,15 +106,30 @@ impl Cone {
     /// rounding: the fuzzer found a cone 43951 long and 0.1 wide that,
     /// re-based at its midpoint, reported a hit 0.7 off its axis
     /// (tests/data/fuzz/). The packet kernel repeats this lane by lane.
+    /// Returns the ray parameter and the axis parameter `s` of that point.
     #[inline(always)]
-    fn rebase(&self, ray: &Ray) -> f32 {
+    fn rebase(&self, ray: &Ray) -> (f32, f32) {
         let r0 = ray.origin - self.base;
         let dw = ray.dir.dot(self.w);
         let s_line = (r0.dot(self.w) - dw * r0.dot(ray.dir)) / (1.0 - dw * dw);
         // NaN (a ray on the axis) goes to 0, as the packet kernel's selects do.
         let s = if s_line > 0.0 { s_line } else { 0.0 };
         let s = if s < self.height { s } else { self.height };
-        (self.base + s * self.w - ray.origin).dot(ray.dir)
+        ((self.base + s * self.w - ray.origin).dot(ray.dir), s)
+    }
+
+    /// The end of the axis the kernels measure from, for a ray re-based at
+    /// axis parameter `s`: the nearer one, since f32 keeps coordinates near it
+    /// to its own scale (a cylinder 958351 long, measured from its base, had
+    /// its far end only to 0.06, and took hits 0.03 past it; tests/data/fuzz/).
+    /// The end's centre, its radius, and the segment's z range from it.
+    #[inline(always)]
+    fn nearer_end(&self, s: f32) -> (Vec3, f32, f32, f32) {
+        if s > 0.5 * self.height {
+            (self.apex, self.apex_radius, -self.height, 0.0)
+        } else {
+            (self.base, self.base_radius, 0.0, self.height)
+        }
     }
 
     /// Base centre.
@@ -166,15 +181,16 @@ impl Intersect for Cone {
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         // Step 1: re-base the ray at its point closest to the axis segment.
-        let shift = self.rebase(ray);
-        let o = ray.origin + shift * ray.dir - self.base;
+        let (shift, s) = self.rebase(ray);
+        let (end, r_end, z_lo, z_hi) = self.nearer_end(s);
+        let o = ray.origin + shift * ray.dir - end;
         // Step 2: origin and direction in the cone's frame.
         let (ox, oy, oz) = (o.dot(self.u), o.dot(self.v), o.dot(self.w));
         let d = ray.dir;
         let (dx, dy, dz) = (d.dot(self.u), d.dot(self.v), d.dot(self.w));
         // Step 3: the quadratic a·t² + 2b·t + c = 0.
         let k = self.slope;
-        let r = self.base_radius + k * oz;
+        let r = r_end + k * oz;
         let a = dx * dx + dy * dy - k * k * (dz * dz);
         let b = ox * dx + oy * dy - k * dz * r;
         let c = ox * ox + oy * oy - r * r;
@@ -189,11 +205,11 @@ impl Intersect for Cone {
         let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
         // Step 5: the near root if it lies on the segment and in the interval, else the far one.
         let z_near = oz + near * dz;
-        let near_ok = z_near >= 0.0 && z_near <= self.height && shift + near >= ray.t_min;
+        let near_ok = z_near >= z_lo && z_near <= z_hi && shift + near >= ray.t_min;
         let t_local = if near_ok { near } else { far };
         let z = oz + t_local * dz;
         let t = shift + t_local;
-        if !(z >= 0.0 && z <= self.height && hit.accepts(t, ray.t_min, prim)) {
+        if !(z >= z_lo && z <= z_hi && hit.accepts(t, ray.t_min, prim)) {
             return false;
         }
         hit.record(t, prim, 0.0, 0.0);
@@ -211,12 +227,25 @@ impl Intersect for Cone {
         let s = s.lt(height).select(s, height);
         let anchor = V3::splat(self.base) + V3::splat(self.w).scale(s);
         let shift = (anchor - rays.origin).dot(rays.dir);
-        let o = rays.origin + rays.dir.scale(shift) - V3::splat(self.base);
+        // From the nearer end of the axis, lane by lane (see `nearer_end`).
+        let from_apex = s.gt(F::splat(0.5 * self.height));
+        let pick = |apex: f32, base: f32| from_apex.select(F::splat(apex), F::splat(base));
+        let end = V3 {
+            x: pick(self.apex.x, self.base.x),
+            y: pick(self.apex.y, self.base.y),
+            z: pick(self.apex.z, self.base.z),
+        };
+        let (r_end, z_lo, z_hi) = (
+            pick(self.apex_radius, self.base_radius),
+            pick(-self.height, 0.0),
+            pick(0.0, self.height),
+        );
+        let o = rays.origin + rays.dir.scale(shift) - end;
         let (ox, oy, oz) = (o.dot_splat(self.u), o.dot_splat(self.v), o.dot_splat(self.w));
         let d = rays.dir;
         let (dx, dy, dz) = (d.dot_splat(self.u), d.dot_splat(self.v), d.dot_splat(self.w));
         let k = F::splat(self.slope);
-        let r = F::splat(self.base_radius) + k * oz;
+        let r = r_end + k * oz;
         let a = dx * dx + dy * dy - k * k * (dz * dz);
         let b = ox * dx + oy * dy - k * dz * r;
         let c = ox * ox + oy * oy - r * r;
@@ -228,11 +257,11 @@ impl Intersect for Cone {
         let ordered = t0.le(t1);
         let (near, far) = (ordered.select(t0, t1), ordered.select(t1, t0));
         let z_near = oz + near * dz;
-        let near_ok = z_near.ge(zero) & z_near.le(height) & (shift + near).ge(rays.t_min);
+        let near_ok = z_near.ge(z_lo) & z_near.le(z_hi) & (shift + near).ge(rays.t_min);
         let t_local = near_ok.select(near, far);
         let z = oz + t_local * dz;
         let t = shift + t_local;
-        let on_segment = disc.ge(zero) & z.ge(zero) & z.le(height);
+        let on_segment = disc.ge(zero) & z.ge(z_lo) & z.le(z_hi);
         let mask = hits.accepts(rays, t, prim) & on_segment;
         hits.record(mask, t, prim, zero, zero);
     }
