@@ -40,31 +40,39 @@ impl std::fmt::Display for CsvError {
 
 impl std::error::Error for CsvError {}
 
-/// Parse the text of a rays file; `path` names it in errors.
-pub fn parse_rays(path: &str, text: &str) -> Result<Vec<Ray>, CsvError> {
-    let error = |line: usize, message: String| CsvError {
+/// The error at a line of the file `path`.
+fn line_error(path: &str) -> impl Fn(usize, String) -> CsvError + '_ {
+    move |line, message| CsvError {
         path: path.to_string(),
         line: Some(line),
         message,
-    };
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
-    match lines.find(|(_, l)| !l.is_empty()) {
-        Some((_, header)) if header.replace(' ', "") == RAYS_HEADER => {}
-        Some((n, other)) => {
-            return Err(error(
-                n,
-                format!("expected the header `{RAYS_HEADER}`, got `{other}`"),
-            ));
-        }
-        None => {
-            return Err(error(
-                1,
-                format!("empty file: expected the header `{RAYS_HEADER}`"),
-            ));
-        }
     }
+}
+
+/// The numbered non-blank lines of `text` after its first one, which must be
+/// `header` (spaces ignored); else the line and what was expected.
+fn data_lines<'a>(
+    text: &'a str,
+    header: &str,
+) -> Result<impl Iterator<Item = (usize, &'a str)>, (usize, String)> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty());
+    match lines.next() {
+        Some((_, first)) if first.replace(' ', "") == header => Ok(lines),
+        Some((n, other)) => Err((n, format!("expected the header `{header}`, got `{other}`"))),
+        None => Err((1, format!("empty file: expected the header `{header}`"))),
+    }
+}
+
+/// Parse the text of a rays file; `path` names it in errors.
+pub fn parse_rays(path: &str, text: &str) -> Result<Vec<Ray>, CsvError> {
+    let error = line_error(path);
+    let lines = data_lines(text, RAYS_HEADER).map_err(|(n, message)| error(n, message))?;
     let mut rays = Vec::new();
-    for (n, line) in lines.filter(|(_, l)| !l.is_empty()) {
+    for (n, line) in lines {
         let fields: Vec<&str> = line.split(',').map(str::trim).collect();
         if fields.len() != 8 {
             return Err(error(
@@ -109,29 +117,10 @@ pub fn read_rays(path: &Path) -> Result<Vec<Ray>, CsvError> {
 /// Parse the text of a hits file (what [`format_hits`] writes, `inf,-1` for a
 /// miss); `path` names it in errors.
 pub fn parse_hits(path: &str, text: &str) -> Result<Vec<Hit>, CsvError> {
-    let error = |line: usize, message: String| CsvError {
-        path: path.to_string(),
-        line: Some(line),
-        message,
-    };
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
-    match lines.find(|(_, l)| !l.is_empty()) {
-        Some((_, header)) if header.replace(' ', "") == HITS_HEADER => {}
-        Some((n, other)) => {
-            return Err(error(
-                n,
-                format!("expected the header `{HITS_HEADER}`, got `{other}`"),
-            ));
-        }
-        None => {
-            return Err(error(
-                1,
-                format!("empty file: expected the header `{HITS_HEADER}`"),
-            ));
-        }
-    }
+    let error = line_error(path);
+    let lines = data_lines(text, HITS_HEADER).map_err(|(n, message)| error(n, message))?;
     let mut hits = Vec::new();
-    for (n, line) in lines.filter(|(_, l)| !l.is_empty()) {
+    for (n, line) in lines {
         let (t, prim) = line
             .split_once(',')
             .ok_or_else(|| error(n, format!("expected `t,prim`, got `{line}`")))?;
