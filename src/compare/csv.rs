@@ -103,15 +103,20 @@ pub fn parse_rays(path: &str, text: &str) -> Result<Vec<Ray>, CsvError> {
     Ok(rays)
 }
 
-/// Read a rays file.
-pub fn read_rays(path: &Path) -> Result<Vec<Ray>, CsvError> {
+/// Read the file at `path` and parse it with `parse` (which names it in errors).
+fn read_with<T>(path: &Path, parse: fn(&str, &str) -> Result<T, CsvError>) -> Result<T, CsvError> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| CsvError {
         path: name.clone(),
         line: None,
         message: format!("cannot read: {e}"),
     })?;
-    parse_rays(&name, &text)
+    parse(&name, &text)
+}
+
+/// Read a rays file.
+pub fn read_rays(path: &Path) -> Result<Vec<Ray>, CsvError> {
+    read_with(path, parse_rays)
 }
 
 /// Parse the text of a hits file (what [`format_hits`] writes, `inf,-1` for a
@@ -157,13 +162,7 @@ pub fn parse_hits(path: &str, text: &str) -> Result<Vec<Hit>, CsvError> {
 
 /// Read a hits file.
 pub fn read_hits(path: &Path) -> Result<Vec<Hit>, CsvError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| CsvError {
-        path: name.clone(),
-        line: None,
-        message: format!("cannot read: {e}"),
-    })?;
-    parse_hits(&name, &text)
+    read_with(path, parse_hits)
 }
 
 /// The text of a rays file.
