@@ -38,3 +38,40 @@ fn closed_mesh() {
     // to the lower index, as in brute force.
     bvh_support::check_scene("mesh", &random::bumpy_sphere(2000, 6), 106);
 }
+
+/// The scenes with which the fuzz target `pipeline` found single rays and
+/// packets disagreeing (`tests/data/fuzz/pipeline_*.nff`): the fuzzer's rays
+/// (from below the scene's box to the centres of the first primitives' boxes)
+/// and 10⁴ random rays, every answer equal to brute force's.
+#[test]
+fn fuzz_pipeline_findings() {
+    use raypack::accel::Bvh;
+    use raypack::ray::Ray;
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
+    let mut scenes = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if !(name.starts_with("pipeline_") && name.ends_with(".nff")) {
+            continue;
+        }
+        let scene = raypack::scene::load(&path).unwrap();
+        let bvh = Bvh::new(&scene.primitives);
+        let from = scene.bounds().min - glam::Vec3::ONE;
+        let mut rays: Vec<Ray> = (scene.primitives.iter())
+            .filter_map(|p| p.bounds())
+            .take(16)
+            .filter_map(|b| (b.center() - from).try_normalize())
+            .map(|dir| Ray::unbounded(from, dir))
+            .collect();
+        let bounds = bvh_support::scene_bounds(&scene.primitives);
+        rays.extend(bvh_support::random_rays(bounds, 10_000, 107));
+        bvh_support::check_rays(&scene.primitives, &bvh, &rays, &name);
+        scenes += 1;
+    }
+    assert!(
+        scenes >= 3,
+        "only {scenes} pipeline findings in {}",
+        dir.display()
+    );
+}

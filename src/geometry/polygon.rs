@@ -39,7 +39,9 @@ pub struct Polygon {
     k: u32,
     /// Edges in the projection plane.
     edges: Box<[Edge]>,
-    /// Bounding box of the vertices.
+    /// Bounding box of every point the kernels can hit: the vertices and the
+    /// vertices lifted along the dropped axis onto the plane (they differ when
+    /// the vertices are not coplanar).
     bounds: Aabb,
     /// The vertices as given (for exporters and triangulation; the kernels use `edges`).
     vertices: Box<[Vec3]>,
@@ -78,12 +80,24 @@ impl Polygon {
                 })
             })
             .collect();
+        let d = normal.dot(vertices[0]);
+        // Bound the hit region, not just the vertices: a hit lies on the plane
+        // and inside the projected outline, so along the dropped axis it ranges
+        // over the plane's heights above the projected vertices. A non-planar
+        // polygon (a mangled file) can be hit outside its vertices' box, where
+        // a BVH would cull it.
+        let lift = |p: Vec3| {
+            let mut on_plane = p;
+            on_plane[k] = (d - normal.dot(p) + normal[k] * p[k]) / normal[k];
+            on_plane
+        };
+        let lifted = vertices.iter().map(|&v| lift(v)).filter(|p| p.is_finite());
         Ok(Self {
             normal,
-            d: normal.dot(vertices[0]),
+            d,
             k: k as u32,
             edges,
-            bounds: Aabb::from_points(vertices.iter().copied()),
+            bounds: Aabb::from_points(vertices.iter().copied().chain(lifted)),
             vertices: vertices.into(),
         })
     }
