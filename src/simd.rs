@@ -13,6 +13,16 @@ use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Sub};
 
 use wide::{f32x4, f32x8, f32x16, u32x4, u32x8, u32x16};
 
+/// The SIMD type of a single ray's box test, and so the width of the BVH's
+/// wide nodes and leaf blocks: 8 lanes per `f32x8` test where the CPU has
+/// 256-bit vectors (AVX), 4 per `f32x4` elsewhere. The one place the width of
+/// the single-ray kernels is chosen.
+#[cfg(target_feature = "avx")]
+pub type NodeLanes = f32x8;
+/// The SIMD type of a single ray's box test (see the AVX variant).
+#[cfg(not(target_feature = "avx"))]
+pub type NodeLanes = f32x4;
+
 /// A vector of `LANES` f32 lanes, with its lane-matched u32 vector.
 pub trait SimdFloat:
     Copy

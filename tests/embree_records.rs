@@ -81,7 +81,7 @@ fn padded_records_extend_the_4_2_layout_by_inst_prim_id() {
 fn embree_4_4_writes_inst_prim_id_past_the_4_2_record() {
     let device = device();
     assert!(device.version() >= 40000, "{}", device.version_string());
-    assert_eq!(device.writes_inst_prim_id(), device.version() >= 40300);
+    assert_eq!(device.writes_inst_prim_id().unwrap(), device.version() >= 40300);
     let scene = triangle_scene(&device);
 
     /// The 4.2 record with the 4 bytes that follow it on the stack.
@@ -99,7 +99,7 @@ fn embree_4_4_writes_inst_prim_id_past_the_4_2_record() {
     // SAFETY: deliberately unpadded; `next` is ours to be overwritten.
     unsafe { sys::rtcIntersect1(scene.raw_scene(), &mut unpadded.record, &mut args) };
     assert_eq!(unpadded.record.hit.geomID, 0);
-    if device.writes_inst_prim_id() {
+    if device.writes_inst_prim_id().unwrap() {
         assert_eq!(
             unpadded.next, INVALID_ID,
             "Embree ≥ 4.3 overwrote the word after RTCRayHit"
@@ -121,7 +121,7 @@ fn embree_4_4_writes_inst_prim_id_past_the_4_2_record() {
     for lane in 0..8 {
         let active = 0b0101_1011 >> lane & 1 == 1;
         assert_eq!(record.geom_id()[lane] == 0, active, "lane {lane}");
-        let expected = if active && device.writes_inst_prim_id() {
+        let expected = if active && device.writes_inst_prim_id().unwrap() {
             INVALID_ID
         } else {
             0x1234_5678

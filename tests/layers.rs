@@ -139,3 +139,195 @@ fn the_check_catches_an_upward_use() {
     assert_eq!(seen, ["render"]);
     assert!(layer("render") > layer("scene"));
 }
+
+/// The module path of a source file: `src/accel/bvh/leaf.rs` → `accel::bvh::leaf`,
+/// `src/accel/mod.rs` → `accel`.
+fn module_path(src: &Path, file: &Path) -> String {
+    let rel = file.strip_prefix(src).unwrap().with_extension("");
+    let parts: Vec<String> = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .filter(|p| p != "mod")
+        .collect();
+    parts.join("::")
+}
+
+/// Every full path a text names after `crate::`, with `{…}` groups (nested,
+/// across lines) expanded: `crate::a::{b, c::D}` → `a::b`, `a::c::D`.
+fn used_paths(text: &str) -> Vec<String> {
+    fn group(prefix: &str, rest: &str, out: &mut Vec<String>) -> usize {
+        // `rest` starts just after a `{`; returns the bytes read through its `}`.
+        let (mut depth, mut start) = (0, 0);
+        for (i, c) in rest.char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' if depth > 0 => depth -= 1,
+                ',' | '}' if depth == 0 => {
+                    let item = rest[start..i].trim();
+                    if let Some(open) = item.find('{') {
+                        let inner = format!("{prefix}{}", item[..open].trim());
+                        group(&inner, &item[open + 1..], out);
+                    } else if !item.is_empty() {
+                        out.push(format!("{prefix}{item}"));
+                    }
+                    start = i + 1;
+                    if c == '}' {
+                        return i + 1;
+                    }
+                }
+                _ => {}
+            }
+        }
+        rest.len()
+    }
+    let mut out = Vec::new();
+    for (i, _) in text.match_indices("crate::") {
+        let rest = &text[i + "crate::".len()..];
+        let end = rest
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
+            .unwrap_or(rest.len());
+        let path = &rest[..end];
+        if path.ends_with("::") && rest[end..].starts_with('{') {
+            group(path, &rest[end + 1..], &mut out);
+        } else {
+            out.push(path.to_string());
+        }
+    }
+    out
+}
+
+/// Files of `src/` that use each other, directly or round a longer loop: the
+/// strongly connected components of the file-level `use crate::` graph with
+/// more than one file. A file's use of its own parent modules (the items they
+/// re-export) does not count: that is how Rust modules are meant to nest.
+fn file_cycles(modules: &[(String, String)]) -> Vec<Vec<String>> {
+    let names: Vec<&str> = modules.iter().map(|(m, _)| m.as_str()).collect();
+    let index = |path: &str| {
+        // The longest prefix of `path` that is a file of its own.
+        let parts: Vec<&str> = path.split("::").collect();
+        (1..=parts.len())
+            .rev()
+            .find_map(|k| names.iter().position(|n| *n == parts[..k].join("::")))
+    };
+    let edges: Vec<Vec<usize>> = modules
+        .iter()
+        .enumerate()
+        .map(|(from, (module, text))| {
+            let mut to: Vec<usize> = used_paths(text)
+                .iter()
+                .filter_map(|p| index(p))
+                .filter(|&t| t != from && !module.starts_with(&format!("{}::", names[t])))
+                .collect();
+            to.sort();
+            to.dedup();
+            to
+        })
+        .collect();
+    // Tarjan's strongly connected components.
+    struct State<'a> {
+        edges: &'a [Vec<usize>],
+        index: Vec<Option<usize>>,
+        low: Vec<usize>,
+        stack: Vec<usize>,
+        on_stack: Vec<bool>,
+        next: usize,
+        found: Vec<Vec<usize>>,
+    }
+    fn visit(s: &mut State, v: usize) {
+        s.index[v] = Some(s.next);
+        s.low[v] = s.next;
+        s.next += 1;
+        s.stack.push(v);
+        s.on_stack[v] = true;
+        for &w in &s.edges[v] {
+            match s.index[w] {
+                None => {
+                    visit(s, w);
+                    s.low[v] = s.low[v].min(s.low[w]);
+                }
+                Some(iw) if s.on_stack[w] => s.low[v] = s.low[v].min(iw),
+                Some(_) => {}
+            }
+        }
+        if Some(s.low[v]) == s.index[v] {
+            let mut component = Vec::new();
+            loop {
+                let w = s.stack.pop().unwrap();
+                s.on_stack[w] = false;
+                component.push(w);
+                if w == v {
+                    break;
+                }
+            }
+            if component.len() > 1 {
+                s.found.push(component);
+            }
+        }
+    }
+    let n = modules.len();
+    let mut s = State {
+        edges: &edges,
+        index: vec![None; n],
+        low: vec![0; n],
+        stack: Vec::new(),
+        on_stack: vec![false; n],
+        next: 0,
+        found: Vec::new(),
+    };
+    for v in 0..n {
+        if s.index[v].is_none() {
+            visit(&mut s, v);
+        }
+    }
+    s.found
+        .into_iter()
+        .map(|c| {
+            let mut c: Vec<String> = c.into_iter().map(|i| names[i].to_string()).collect();
+            c.sort();
+            c
+        })
+        .collect()
+}
+
+#[test]
+fn no_two_files_use_each_other() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    sources(&src, &mut files);
+    let modules: Vec<(String, String)> = files
+        .iter()
+        .map(|f| {
+            let text = std::fs::read_to_string(f).unwrap();
+            let code: Vec<&str> = code_lines(&text).map(|(_, l)| l).collect();
+            (module_path(&src, f), code.join("\n"))
+        })
+        .filter(|(m, _)| m != "lib" && m != "main")
+        .collect();
+    let cycles = file_cycles(&modules);
+    assert!(
+        cycles.is_empty(),
+        "files that use each other (move what they share below them):\n{}",
+        cycles
+            .iter()
+            .map(|c| c.join(" ↔ "))
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}
+
+#[test]
+fn the_cycle_check_sees_a_loop_through_a_group() {
+    let module = |name: &str, text: &str| (name.to_string(), text.to_string());
+    let looped = [
+        module("a::x", "use crate::a::{\n    y::{Y, Z},\n    w,\n};"),
+        module("a::y", "use crate::a::z::Z;"),
+        module("a::z", "use crate::a::x::X;"),
+        module("a::w", "use crate::a::W;"),
+        module("a", "use crate::a::w::V;"),
+    ];
+    assert_eq!(file_cycles(&looped), [["a::x", "a::y", "a::z"]]);
+    assert!(
+        file_cycles(&looped[1..]).is_empty(),
+        "a child's use of its parent is no loop"
+    );
+}

@@ -2,12 +2,11 @@
 //! loaded library turned out to be (version, hit-record layout).
 
 use std::ffi::{CStr, CString, c_char, c_void};
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 use embree4_sys as sys;
 
 use crate::embree::EmbreeError;
-use crate::embree::ray_hit::probe_inst_prim_id;
 
 /// The device configuration the comparisons use: Embree's 8-wide AVX2 kernels,
 /// which match raypack's 8-wide packets, and one build thread. (Tracing runs on
@@ -51,7 +50,9 @@ pub struct Device {
     errors: Box<ErrorLog>,
     config: String,
     version: u32,
-    inst_prim_id: bool,
+    /// Whether the library writes `instPrimID` after the hit record, once
+    /// probed (`Device::writes_inst_prim_id`, in `scene.rs`).
+    pub(crate) inst_prim_id: OnceLock<bool>,
 }
 
 // SAFETY: Embree's device API is thread-safe; the error log is behind a mutex.
@@ -88,15 +89,14 @@ impl Device {
         }
         // SAFETY: a valid device.
         let version = unsafe { sys::rtcGetDeviceProperty(raw, sys::RTCDeviceProperty::VERSION) } as u32;
-        let mut device = Self {
+        let device = Self {
             raw,
             errors,
             config: config.to_string(),
             version,
-            inst_prim_id: false,
+            inst_prim_id: OnceLock::new(),
         };
         device.check("creating the device")?;
-        device.inst_prim_id = probe_inst_prim_id(&device)?;
         Ok(device)
     }
 
@@ -128,13 +128,6 @@ impl Device {
             self.version / 100 % 100,
             self.version % 100
         )
-    }
-
-    /// Whether the library writes `instPrimID` after `instID` in every hit
-    /// record (Embree ≥ 4.3 built with instance arrays), found by tracing one ray
-    /// when the device was made.
-    pub fn writes_inst_prim_id(&self) -> bool {
-        self.inst_prim_id
     }
 
     /// Fail with everything Embree reported since the last check, if anything.

@@ -11,7 +11,7 @@
 use crate::accel::TraversalStats;
 use crate::accel::stats::{Counter, NoStats};
 use crate::render::RayCounts;
-use crate::render::kernel::BATCH;
+use crate::render::batch::BATCH;
 use crate::render::lane_costs::LaneCosts;
 
 /// Whether and how a render counts its traversal work.

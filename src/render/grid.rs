@@ -3,7 +3,7 @@
 
 use crate::camera::Camera;
 use crate::ray::Ray;
-use crate::render::kernel::{BATCH, Rays};
+use crate::render::batch::{BATCH, Rays};
 use crate::render::{Block, Sampling, Tile};
 
 /// The primary rays of a camera at pixel centres or corners. 76 bytes.

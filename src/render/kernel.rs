@@ -17,18 +17,10 @@ use std::marker::PhantomData;
 
 use crate::accel::CountedAccel;
 use crate::packet::RayPacket;
-use crate::ray::{Hit, Ray};
+use crate::ray::Hit;
+use crate::render::batch::{BATCH, Rays};
 use crate::render::counting::TileCounter;
 use crate::simd::{SimdFloat, SimdU32};
-
-/// Rays per batch: one 4×2 or 8×1 pixel block, one 8-wide packet.
-pub const BATCH: usize = 8;
-
-/// A batch of rays; lane `i` takes part where bit `i` of the mask is set.
-pub type Rays = [Ray; BATCH];
-
-/// The lane mask with every lane of a batch set.
-pub const ALL_LANES: u32 = (1 << BATCH) - 1;
 
 /// Nearest-hit and occlusion queries on batches of rays.
 pub trait TraceKernel: Send + Sync + 'static {
@@ -166,6 +158,8 @@ mod tests {
     use crate::accel::BruteForce;
     use crate::accel::stats::NoStats;
     use crate::geometry::{Primitive, Sphere};
+    use crate::ray::Ray;
+    use crate::render::batch::ALL_LANES;
     use crate::rng::Rng;
 
     fn cloud(rng: &mut Rng) -> Vec<Primitive> {

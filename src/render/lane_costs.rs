@@ -8,7 +8,7 @@
 
 use crate::accel::TraversalStats;
 use crate::accel::stats::Counter;
-use crate::render::kernel::BATCH;
+use crate::render::batch::BATCH;
 use crate::simd::{SimdFloat, SimdU32};
 
 /// Traversal totals plus each batch lane's cost (node visits plus primitive
@@ -103,7 +103,8 @@ mod tests {
     use crate::accel::{AccelWithStats, Bvh};
     use crate::packet::RayPacket;
     use crate::ray::Ray;
-    use crate::render::kernel::{ALL_LANES, PacketKernel, Rays, ScalarKernel, TraceKernel};
+    use crate::render::batch::{ALL_LANES, Rays};
+    use crate::render::kernel::{PacketKernel, ScalarKernel, TraceKernel};
     use crate::rng::Rng;
     use crate::scene::generate::random::random_spheres;
 

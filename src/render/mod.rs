@@ -14,6 +14,7 @@
 //! pixel. The counter is a type parameter of the tile loop, so [`render`] (and
 //! `bench scene`) compile without it.
 
+pub mod batch;
 pub mod counting;
 pub mod engine;
 pub mod frame;
@@ -47,8 +48,8 @@ use crate::accel::stats::{NoStats, Uncounted};
 use crate::accel::{Accel, CountedAccel, TraversalStats};
 use crate::camera::Camera;
 use crate::scene::Scene;
+use batch::BATCH;
 use counting::{Tally, TileCounter};
-use kernel::BATCH;
 use lane_costs::LaneCosts;
 use whitted::lanes;
 

@@ -21,14 +21,13 @@
 
 use std::ops::Range;
 
-use crate::accel::bvh::wide::NodeLanes;
 use crate::accel::stats::Counter;
 use crate::geometry::sphere::Spheres;
 use crate::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
 use crate::geometry::{BlockIntersect, Intersect, Primitive, Sphere};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::SimdFloat;
+use crate::simd::{NodeLanes, SimdFloat};
 
 /// The lanes of a [`TriangleBlock`] or [`SphereBlock`].
 pub type BlockLanes = NodeLanes;

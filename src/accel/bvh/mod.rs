@@ -42,6 +42,7 @@ pub mod build_sah;
 pub mod leaf;
 pub mod node;
 pub mod occlusion;
+pub mod query;
 pub mod ray_box;
 pub mod stack;
 pub mod traverse_hybrid;

@@ -6,9 +6,10 @@
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 
+use crate::accel::bvh::query::{PacketQuery, RayQuery, lane_bits};
 use crate::accel::bvh::ray_box::SlabRay;
-use crate::accel::bvh::traverse_packet::{PacketQuery, lane_bits, traverse_packet};
-use crate::accel::bvh::traverse_single::{RayQuery, traverse};
+use crate::accel::bvh::traverse_packet::traverse_packet;
+use crate::accel::bvh::traverse_single::traverse;
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;

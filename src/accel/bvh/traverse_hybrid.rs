@@ -13,9 +13,9 @@
 //! rays keep to the binary tree ([`traverse_packet`](super::traverse_packet)).
 
 use crate::accel::bvh::Bvh;
+use crate::accel::bvh::query::PacketQuery;
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
-use crate::accel::bvh::traverse_packet::PacketQuery;
 use crate::accel::bvh::wide::{ChildRef, WIDTH};
 use crate::accel::stats::Counter;
 use crate::simd::SimdFloat;

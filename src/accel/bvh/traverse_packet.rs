@@ -25,6 +25,7 @@ use glam::Vec3;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::node::{NodeId, ROOT};
+use crate::accel::bvh::query::{PacketQuery, lane_bits};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
 use crate::accel::bvh::traverse_hybrid::traverse_hybrid;
@@ -38,37 +39,6 @@ use crate::simd::SimdFloat;
 /// Cosine of the widest angle (about 8°) between a lane's direction and the
 /// packet's mean direction for which a packet counts as coherent.
 pub const COHERENT_COS: f32 = 0.99;
-
-/// What a packet traversal does in leaves, and how far each lane looks.
-pub trait PacketQuery<F: SimdFloat> {
-    /// Whether children are visited nearest first (see [`RayQuery::NEAREST_FIRST`]).
-    ///
-    /// [`RayQuery::NEAREST_FIRST`]: crate::accel::bvh::traverse_single::RayQuery::NEAREST_FIRST
-    const NEAREST_FIRST: bool = true;
-
-    /// Per lane, the largest t still of interest.
-    fn t_max(&self) -> F;
-
-    /// The lanes still being traced.
-    fn live(&self) -> F;
-
-    /// Test the leaf primitives `prims` on the lanes of `mask`.
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
-
-    /// Trace the lanes of the mask `lanes` through the subtree of the wide
-    /// tree under `start` (whose box they met) as single rays, one after the
-    /// other (reporting each to [`Counter::lane`]).
-    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S);
-}
-
-/// The lanes of the mask `lanes`, lowest first.
-pub fn lane_bits(mut lanes: u32) -> impl Iterator<Item = usize> {
-    std::iter::from_fn(move || {
-        let lane = (lanes != 0).then(|| lanes.trailing_zeros() as usize)?;
-        lanes &= lanes - 1;
-        Some(lane)
-    })
-}
 
 /// Bit `k` set when most active lanes point down axis `k`: the packet then
 /// visits the upper child of a node split along `k` first.

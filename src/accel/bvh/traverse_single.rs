@@ -7,26 +7,13 @@
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
+use crate::accel::bvh::query::RayQuery;
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
 use crate::accel::bvh::wide::{ChildRef, WIDTH};
 use crate::accel::stats::Counter;
 use crate::geometry::Intersect;
 use crate::ray::{Hit, Ray};
-
-/// What a single-ray traversal does in leaves, and how far it looks.
-pub trait RayQuery {
-    /// Whether children are visited nearest first. Nearest-hit queries gain
-    /// from it (a near hit culls the far children); an any-hit query stops at
-    /// whatever it meets first, so it saves the ordering.
-    const NEAREST_FIRST: bool = true;
-
-    /// The largest t still of interest (the current hit's t for nearest-hit queries).
-    fn t_max(&self) -> f32;
-
-    /// Test the primitives of `leaf`; true ends the traversal.
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool;
-}
 
 /// Traverse the subtree under `start` (whose box the ray is known to meet, or
 /// [`ChildRef::ROOT`]); returns true if the query ended the traversal early.

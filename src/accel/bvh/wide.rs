@@ -19,7 +19,7 @@ use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::WIDE_STACK_SLOTS;
 use crate::bounds::Aabb;
-use crate::simd::{SimdFloat, SimdU32};
+use crate::simd::{NodeLanes, SimdFloat, SimdU32};
 
 /// What a child slot of a wide node leads to: an inner wide node, or a leaf
 /// (encoded as the binary tree's leaf node encodes it, see [`LeafRef`]). 8 bytes.
@@ -75,15 +75,6 @@ impl ChildRef {
         LeafRef::decode(self.index, self.count)
     }
 }
-
-/// The SIMD type of a single ray's box test, and so the width of the wide
-/// tree: 8 boxes per `f32x8` test where the CPU has 256-bit vectors (AVX), 4 per
-/// `f32x4` elsewhere. The one place the node width is chosen.
-#[cfg(target_feature = "avx")]
-pub type NodeLanes = wide::f32x8;
-/// The SIMD type of a single ray's box test (see the AVX variant).
-#[cfg(not(target_feature = "avx"))]
-pub type NodeLanes = wide::f32x4;
 
 /// Children per wide node.
 pub const WIDTH: usize = NodeLanes::LANES;

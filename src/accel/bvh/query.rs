@@ -1,0 +1,54 @@
+//! What a traversal does where it meets primitives, apart from how it walks
+//! the tree: a query decides what happens in a leaf and how far each ray still
+//! looks. One traversal loop per tree and ray kind serves every query
+//! (nearest hit, any hit), as in madmann91's `bvh` library, whose traversal
+//! takes the leaf test as a parameter.
+
+use crate::accel::bvh::Bvh;
+use crate::accel::bvh::leaf::LeafRef;
+use crate::accel::bvh::wide::ChildRef;
+use crate::accel::stats::Counter;
+use crate::simd::SimdFloat;
+
+/// What a single-ray traversal does in leaves, and how far it looks.
+pub trait RayQuery {
+    /// Whether children are visited nearest first. Nearest-hit queries gain
+    /// from it (a near hit culls the far children); an any-hit query stops at
+    /// whatever it meets first, so it saves the ordering.
+    const NEAREST_FIRST: bool = true;
+
+    /// The largest t still of interest (the current hit's t for nearest-hit queries).
+    fn t_max(&self) -> f32;
+
+    /// Test the primitives of `leaf`; true ends the traversal.
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool;
+}
+
+/// What a packet traversal does in leaves, and how far each lane looks.
+pub trait PacketQuery<F: SimdFloat> {
+    /// Whether children are visited nearest first (see [`RayQuery::NEAREST_FIRST`]).
+    const NEAREST_FIRST: bool = true;
+
+    /// Per lane, the largest t still of interest.
+    fn t_max(&self) -> F;
+
+    /// The lanes still being traced.
+    fn live(&self) -> F;
+
+    /// Test the leaf primitives `prims` on the lanes of `mask`.
+    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
+
+    /// Trace the lanes of the mask `lanes` through the subtree of the wide
+    /// tree under `start` (whose box they met) as single rays, one after the
+    /// other (reporting each to [`Counter::lane`]).
+    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S);
+}
+
+/// The lanes of the mask `lanes`, lowest first.
+pub fn lane_bits(mut lanes: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        let lane = (lanes != 0).then(|| lanes.trailing_zeros() as usize)?;
+        lanes &= lanes - 1;
+        Some(lane)
+    })
+}

@@ -1,0 +1,14 @@
+//! The unit of work of a trace kernel: a batch of rays (one pixel block, one
+//! 8-wide packet) with a lane mask. Counting and kernels both speak of batch
+//! lanes, so the batch is defined below both.
+
+use crate::ray::Ray;
+
+/// Rays per batch: one 4×2 or 8×1 pixel block, one 8-wide packet.
+pub const BATCH: usize = 8;
+
+/// A batch of rays; lane `i` takes part where bit `i` of the mask is set.
+pub type Rays = [Ray; BATCH];
+
+/// The lane mask with every lane of a batch set.
+pub const ALL_LANES: u32 = (1 << BATCH) - 1;
