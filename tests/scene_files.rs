@@ -145,12 +145,17 @@ fn mirror_glass_scene_has_mirrors_glass_and_lights_in_view() {
 fn fuzz_findings_load_or_fail_cleanly() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
     // File, and the primitives it loads (Ok) or what its error says (Err).
-    let findings: [(&str, Result<usize, &str>); 5] = [
+    let findings: [(&str, Result<usize, &str>); 6] = [
         // A cylinder 958351 long and 0.07 wide: measured from its base, f32
         // kept its far end to 0.06 and its kernel took a hit 0.03 past it,
         // outside its box, so single rays and packets disagreed (fuzz target
         // pipeline); tests/cone_kernel.rs traces the ray.
         ("pipeline_long_cylinder_end.nff", Ok(44)),
+        // A triangle 4·10¹⁸ long and about 1 wide: its kernel's edge margin
+        // (a millionth in barycentric units) reached 10¹² beyond its end, so a
+        // hit lay outside its box and single rays culled it (fuzz target
+        // pipeline); tests/bvh_agrees_with_brute_force.rs traces it.
+        ("pipeline_needle_triangle.nff", Ok(20)),
         // A 10-vertex polygon whose vertices are not coplanar: a hit on its
         // plane fell outside its vertices' box, where single rays culled it
         // (fuzz target pipeline); tests/bvh_agrees_with_brute_force.rs traces it.
