@@ -131,6 +131,18 @@ impl Hit {
         recorded
     }
 
+    /// Record a hit at `t` on `prim`, with no surface coordinates, if the
+    /// record [accepts](Hit::accepts) it; true if recorded. The last step of
+    /// the kernels whose hits carry no `u, v`.
+    #[inline(always)]
+    pub fn offer(&mut self, t: f32, t_min: f32, prim: u32) -> bool {
+        let accepted = self.accepts(t, t_min, prim);
+        if accepted {
+            self.record(t, prim, 0.0, 0.0);
+        }
+        accepted
+    }
+
     /// Record a hit (the caller has checked [`Hit::accepts`]).
     #[inline(always)]
     pub fn record(&mut self, t: f32, prim: u32, u: f32, v: f32) {

@@ -209,11 +209,7 @@ impl Intersect for Cone {
         let t_local = if near_ok { near } else { far };
         let z = oz + t_local * dz;
         let t = shift + t_local;
-        if !(z >= z_lo && z <= z_hi && hit.accepts(t, ray.t_min, prim)) {
-            return false;
-        }
-        hit.record(t, prim, 0.0, 0.0);
-        true
+        z >= z_lo && z <= z_hi && hit.offer(t, ray.t_min, prim)
     }
 
     /// Packet kernel: [`Cone::intersect`] on every active lane.

@@ -118,6 +118,31 @@ pub trait BlockIntersect {
     }
 }
 
+/// The [`BlockIntersect`] methods that every block spells alike: `ids`, its
+/// row of primitive indices, and `intersect_packet_as`, the packet kernel of
+/// one lane, which is the shape module's own `intersect_packet_lane` reading
+/// the lane in place. Invoked inside each block's `impl BlockIntersect`.
+macro_rules! block_lanes {
+    () => {
+        #[inline(always)]
+        fn ids(&self) -> &[u32] {
+            self.ids.as_ref()
+        }
+
+        #[inline(always)]
+        fn intersect_packet_as<G: SimdFloat>(
+            &self,
+            i: usize,
+            rays: &RayPacket<G>,
+            prim: u32,
+            hits: &mut HitPacket<G>,
+        ) {
+            intersect_packet_lane(self, i, rays, prim, hits);
+        }
+    };
+}
+pub(crate) use block_lanes;
+
 /// Shapes with their primitive indices, spread over the lanes of a block
 /// kernel's rows (`ProjectedTriangles`, `Spheres`): lane `i` holds shape `i`.
 struct ShapeLanes<'a, T>(&'a [(T, u32)]);

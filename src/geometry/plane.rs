@@ -128,30 +128,44 @@ impl Intersect for Plane {
     }
 }
 
+/// The scalar kernel of the implicit and point-normal forms: the hit at
+/// `t = numerator / ⟨n, v⟩`, the numerator computed (in the form's own
+/// order of operations) only where the denominator is usable.
+#[inline(always)]
+fn hit_plane(n: Vec3, numerator: impl FnOnce() -> f32, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
+    let denom = n.dot(ray.dir);
+    usable_denominator(denom) && hit.offer(numerator() / denom, ray.t_min, prim)
+}
+
+/// The packet kernel of the implicit and point-normal forms: each lane's hit
+/// at `t = numerator / ⟨n, v⟩`.
+#[inline(always)]
+fn hit_plane_packet<F: SimdFloat>(
+    n: Vec3,
+    numerator: F,
+    rays: &RayPacket<F>,
+    prim: u32,
+    hits: &mut HitPacket<F>,
+) {
+    let denom = rays.dir.dot_splat(n);
+    let t = numerator / denom;
+    let mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
+    let zero = F::splat(0.0);
+    hits.record(mask, t, prim, zero, zero);
+}
+
 impl Intersect for ImplicitPlane {
     /// Scalar kernel.
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
-        let denom = self.n.dot(ray.dir);
-        if !usable_denominator(denom) {
-            return false;
-        }
-        let t = -(self.n.dot(ray.origin) + self.d) / denom;
-        if !hit.accepts(t, ray.t_min, prim) {
-            return false;
-        }
-        hit.record(t, prim, 0.0, 0.0);
-        true
+        hit_plane(self.n, || -(self.n.dot(ray.origin) + self.d), ray, prim, hit)
     }
 
     /// Packet kernel.
     #[inline]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
-        let denom = rays.dir.dot_splat(self.n);
-        let t = -(rays.origin.dot_splat(self.n) + F::splat(self.d)) / denom;
-        let mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
-        let zero = F::splat(0.0);
-        hits.record(mask, t, prim, zero, zero);
+        let numerator = -(rays.origin.dot_splat(self.n) + F::splat(self.d));
+        hit_plane_packet(self.n, numerator, rays, prim, hits);
     }
 }
 
@@ -159,26 +173,14 @@ impl Intersect for PointNormalPlane {
     /// Scalar kernel.
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
-        let denom = self.n.dot(ray.dir);
-        if !usable_denominator(denom) {
-            return false;
-        }
-        let t = self.n.dot(self.q0 - ray.origin) / denom;
-        if !hit.accepts(t, ray.t_min, prim) {
-            return false;
-        }
-        hit.record(t, prim, 0.0, 0.0);
-        true
+        hit_plane(self.n, || self.n.dot(self.q0 - ray.origin), ray, prim, hit)
     }
 
     /// Packet kernel.
     #[inline]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
-        let denom = rays.dir.dot_splat(self.n);
-        let t = (V3::splat(self.q0) - rays.origin).dot_splat(self.n) / denom;
-        let mask = hits.accepts(rays, t, prim) & usable_denominators(denom);
-        let zero = F::splat(0.0);
-        hits.record(mask, t, prim, zero, zero);
+        let numerator = (V3::splat(self.q0) - rays.origin).dot_splat(self.n);
+        hit_plane_packet(self.n, numerator, rays, prim, hits);
     }
 }
 

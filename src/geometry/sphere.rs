@@ -18,7 +18,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::{BlockIntersect, Intersect, ShapeLanes};
+use crate::geometry::{BlockIntersect, Intersect, ShapeLanes, block_lanes};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, SimdU32, V3};
@@ -83,11 +83,7 @@ impl Intersect for Sphere {
         let s = quarter_disc.sqrt();
         let near = if self.inside_only { b + s } else { b - s };
         let t = if near >= ray.t_min { near } else { b + s };
-        if !hit.accepts(t, ray.t_min, prim) {
-            return false;
-        }
-        hit.record(t, prim, 0.0, 0.0);
-        true
+        hit.offer(t, ray.t_min, prim)
     }
 
     /// Packet kernel: [`Sphere::intersect`] on every active lane.
@@ -187,21 +183,7 @@ impl<F: SimdFloat> Spheres<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for Spheres<F> {
-    #[inline(always)]
-    fn ids(&self) -> &[u32] {
-        self.ids.as_ref()
-    }
-
-    #[inline(always)]
-    fn intersect_packet_as<G: SimdFloat>(
-        &self,
-        i: usize,
-        rays: &RayPacket<G>,
-        prim: u32,
-        hits: &mut HitPacket<G>,
-    ) {
-        intersect_packet_lane(self, i, rays, prim, hits);
-    }
+    block_lanes!();
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
     /// lane, so each lane's t is bit for bit the scalar one): records in `hit`

@@ -19,7 +19,9 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::{BlockIntersect, Intersect, ShapeLanes, usable_denominator, usable_denominators};
+use crate::geometry::{
+    BlockIntersect, Intersect, ShapeLanes, block_lanes, usable_denominator, usable_denominators,
+};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, SimdU32};
@@ -362,21 +364,7 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
-    #[inline(always)]
-    fn ids(&self) -> &[u32] {
-        self.ids.as_ref()
-    }
-
-    #[inline(always)]
-    fn intersect_packet_as<G: SimdFloat>(
-        &self,
-        i: usize,
-        rays: &RayPacket<G>,
-        prim: u32,
-        hits: &mut HitPacket<G>,
-    ) {
-        intersect_packet_lane(self, i, rays, prim, hits);
-    }
+    block_lanes!();
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
     /// lane, so each lane's t, β, γ are bit for bit the scalar ones): records

@@ -316,6 +316,15 @@ mod tests {
         Figure::new(name, "Mrays/s", Better::Higher, &labels, s)
     }
 
+    /// A figure of `bench scene`'s labels: scene, kernel, threads.
+    fn kernel_figure(name: &str, scene: &str, kernel: &str, threads: &str, median: f64) -> Figure {
+        figure(
+            name,
+            &[("scene", scene), ("kernel", kernel), ("threads", threads)],
+            median,
+        )
+    }
+
     fn input(figures: Vec<Figure>) -> Input {
         Input {
             name: "scene <1>.json".into(),
@@ -332,26 +341,10 @@ mod tests {
     #[test]
     fn groups_by_name_and_scene_and_labels_bars_by_the_rest() {
         let figures = vec![
-            figure(
-                "throughput",
-                &[("scene", "a"), ("kernel", "scalar"), ("threads", "1")],
-                1.0,
-            ),
-            figure(
-                "throughput",
-                &[("scene", "a"), ("kernel", "packet8"), ("threads", "1")],
-                2.0,
-            ),
-            figure(
-                "throughput",
-                &[("scene", "b"), ("kernel", "scalar"), ("threads", "1")],
-                3.0,
-            ),
-            figure(
-                "ratio",
-                &[("scene", "a"), ("kernel", "scalar"), ("threads", "1")],
-                1.0,
-            ),
+            kernel_figure("throughput", "a", "scalar", "1", 1.0),
+            kernel_figure("throughput", "a", "packet8", "1", 2.0),
+            kernel_figure("throughput", "b", "scalar", "1", 3.0),
+            kernel_figure("ratio", "a", "scalar", "1", 1.0),
         ];
         let g = groups(&figures);
         assert_eq!(g.iter().map(Vec::len).collect::<Vec<_>>(), [2, 1, 1]);
@@ -412,16 +405,8 @@ mod tests {
     #[test]
     fn the_page_is_self_contained_and_escaped() {
         let figures = vec![
-            figure(
-                "throughput",
-                &[("scene", "a"), ("kernel", "scalar"), ("threads", "1")],
-                1.0,
-            ),
-            figure(
-                "throughput",
-                &[("scene", "a"), ("kernel", "scalar"), ("threads", "2")],
-                1.9,
-            ),
+            kernel_figure("throughput", "a", "scalar", "1", 1.0),
+            kernel_figure("throughput", "a", "scalar", "2", 1.9),
         ];
         let picture = Picture {
             name: "render <a>.png".into(),

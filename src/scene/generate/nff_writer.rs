@@ -26,6 +26,19 @@ pub struct View {
 }
 
 impl View {
+    /// The camera of most SPD generators: from `from` towards `at`, z up, a 45°
+    /// view, hither 1, 512×512.
+    pub fn looking_at(from: DVec3, at: DVec3) -> Self {
+        Self {
+            from,
+            at,
+            up: DVec3::Z,
+            angle: 45.0,
+            hither: 1.0,
+            resolution: [512, 512],
+        }
+    }
+
     /// The SPD's usual camera: from `from` towards the origin, z up, a 45° view,
     /// hither 0.01, 512×512.
     pub fn towards_origin(from: DVec3) -> Self {

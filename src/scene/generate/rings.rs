@@ -52,14 +52,7 @@ pub fn write<W: Write>(size: u32, out: &mut NffWriter<W>) -> io::Result<()> {
     let layer_step = 1.0 / FRAC_PI_8.sin();
     out.background(SKY_BLUE)?;
     let from = DVec3::new(-1.0, -layer_step, 0.5);
-    out.view(&View {
-        from,
-        at: from + DVec3::Y,
-        up: DVec3::Z,
-        angle: 45.0,
-        hither: 1.0,
-        resolution: [512, 512],
-    })?;
+    out.view(&View::looking_at(from, from + DVec3::Y))?;
     for light in [
         [3.0, -layer_step, 3.0],
         [-4.0, -layer_step, 1.0],

@@ -38,14 +38,7 @@ pub fn primitive_count(size: u32) -> u64 {
 /// Write the scene for size factor `size` (at least 1).
 pub fn write<W: Write>(size: u32, out: &mut NffWriter<W>) -> io::Result<()> {
     out.background(SKY_BLUE)?;
-    out.view(&View {
-        from: DVec3::new(4.86, 7.2, 5.4),
-        at: DVec3::ZERO,
-        up: DVec3::Z,
-        angle: 45.0,
-        hither: 1.0,
-        resolution: [512, 512],
-    })?;
+    out.view(&View::looking_at(DVec3::new(4.86, 7.2, 5.4), DVec3::ZERO))?;
     out.light(DVec3::new(-3.1, 9.8, 12.1))?;
     out.light(DVec3::new(11.3, 5.1, 8.8))?;
     checkerboard(out, size)?;

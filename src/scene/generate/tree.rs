@@ -42,14 +42,10 @@ pub fn primitive_count(size: u32) -> u64 {
 /// Write the scene for size factor `size`.
 pub fn write<W: Write>(size: u32, out: &mut NffWriter<W>) -> io::Result<()> {
     out.background(SKY_BLUE)?;
-    out.view(&View {
-        from: DVec3::new(4.5, 0.4, 2.0),
-        at: DVec3::new(0.0, 0.0, 1.5),
-        up: DVec3::Z,
-        angle: 45.0,
-        hither: 1.0,
-        resolution: [512, 512],
-    })?;
+    out.view(&View::looking_at(
+        DVec3::new(4.5, 0.4, 2.0),
+        DVec3::new(0.0, 0.0, 1.5),
+    ))?;
     for light in [
         [-5.0, 5.0, 50.0],
         [30.0, -30.0, 30.0],
