@@ -4,7 +4,7 @@
 mod bvh_support;
 
 use clap::ValueEnum;
-use raypack::accel::{Accel, AccelKind, AccelWithStats, AnyAccel, BruteForce, Bvh, TraversalStats};
+use raypack::accel::{Accel, AccelKind, AnyAccel, BruteForce, Bvh, TraversalStats};
 use raypack::packet::RayPacket8;
 use raypack::scene::generate::random;
 use raypack::simd::SimdFloat;
@@ -19,28 +19,25 @@ fn counted_queries_return_the_plain_answers() {
     let (mut s_bvh, mut s_brute) = (TraversalStats::default(), TraversalStats::default());
     for ray in &rays {
         let plain = bvh_support::key(&bvh.intersect(ray));
+        assert_eq!(bvh_support::key(&bvh.intersect_counted(ray, &mut s_bvh)), plain);
         assert_eq!(
-            bvh_support::key(&bvh.intersect_with_stats(ray, &mut s_bvh)),
+            bvh_support::key(&brute.intersect_counted(ray, &mut s_brute)),
             plain
         );
         assert_eq!(
-            bvh_support::key(&brute.intersect_with_stats(ray, &mut s_brute)),
-            plain
-        );
-        assert_eq!(
-            bvh.occluded_with_stats(ray, &mut TraversalStats::default()),
+            bvh.occluded_counted(ray, &mut TraversalStats::default()),
             bvh.occluded(ray)
         );
         assert_eq!(
-            brute.occluded_with_stats(ray, &mut TraversalStats::default()),
+            brute.occluded_counted(ray, &mut TraversalStats::default()),
             bvh.occluded(ray)
         );
     }
     for chunk in rays.chunks(8) {
         let p = RayPacket8::from_rays(chunk);
         let plain = bvh.intersect_packet(&p);
-        let counted = bvh.intersect_packet_with_stats(&p, &mut TraversalStats::default());
-        let brute_counted = brute.intersect_packet_with_stats(&p, &mut TraversalStats::default());
+        let counted = bvh.intersect_packet_counted(&p, &mut TraversalStats::default());
+        let brute_counted = brute.intersect_packet_counted(&p, &mut TraversalStats::default());
         for lane in 0..chunk.len() {
             assert_eq!(
                 bvh_support::key(&counted.hit(lane)),
@@ -53,8 +50,8 @@ fn counted_queries_return_the_plain_answers() {
         }
         let occluded = bvh.occluded_packet(&p).bitmask();
         let mut s = TraversalStats::default();
-        assert_eq!(bvh.occluded_packet_with_stats(&p, &mut s).bitmask(), occluded);
-        assert_eq!(brute.occluded_packet_with_stats(&p, &mut s).bitmask(), occluded);
+        assert_eq!(bvh.occluded_packet_counted(&p, &mut s).bitmask(), occluded);
+        assert_eq!(brute.occluded_packet_counted(&p, &mut s).bitmask(), occluded);
     }
     // Brute force tests every primitive once per ray and visits no node.
     assert_eq!(s_brute.rays, rays.len() as u64);
@@ -78,11 +75,11 @@ fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
     let bounds = bvh_support::scene_bounds(&prims);
     let mut primary = TraversalStats::default();
     for (_, packet) in bvh_support::primary_packets(bounds, 128, 128) {
-        bvh.intersect_packet_with_stats(&packet, &mut primary);
+        bvh.intersect_packet_counted(&packet, &mut primary);
     }
     let mut random = TraversalStats::default();
     for chunk in bvh_support::random_rays(bounds, 128 * 128, 24).chunks(8) {
-        bvh.intersect_packet_with_stats(&RayPacket8::from_rays(chunk), &mut random);
+        bvh.intersect_packet_counted(&RayPacket8::from_rays(chunk), &mut random);
     }
     assert_eq!(primary.rays, 128 * 128);
     assert_eq!(primary.packets, 128 * 128 / 8);
@@ -112,8 +109,8 @@ fn accel_kind_parses_builds_and_forwards() {
     assert!(matches!(bvh, AnyAccel::Bvh(_)) && bvh.kind() == AccelKind::Bvh);
     let mut stats = [TraversalStats::default(), TraversalStats::default()];
     for ray in &rays {
-        let a = none.intersect_with_stats(ray, &mut stats[0]);
-        let b = bvh.intersect_with_stats(ray, &mut stats[1]);
+        let a = none.intersect_counted(ray, &mut stats[0]);
+        let b = bvh.intersect_counted(ray, &mut stats[1]);
         assert_eq!(bvh_support::key(&a), bvh_support::key(&b));
         assert_eq!(none.occluded(ray), bvh.occluded(ray));
     }

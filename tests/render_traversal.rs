@@ -9,7 +9,7 @@ mod render_support;
 use cli_support::{raypack, scratch, stderr};
 
 use glam::Vec3;
-use raypack::accel::{AccelKind, AccelWithStats, BruteForce, Bvh, TraversalStats};
+use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalStats};
 use raypack::camera::Camera;
 use raypack::geometry::{Primitive, Sphere};
 use raypack::packet::RayPacket8;
@@ -38,13 +38,13 @@ fn settings(mode: Mode, kernel: KernelKind, block: Block) -> RenderSettings {
 }
 
 /// The totals of tracing every pixel's primary ray on its own, and each ray's cost.
-fn scalar_primary<A: AccelWithStats>(accel: &A, camera: &Camera) -> (TraversalStats, Vec<u64>) {
+fn scalar_primary<A: Accel>(accel: &A, camera: &Camera) -> (TraversalStats, Vec<u64>) {
     let mut total = TraversalStats::default();
     let mut cost = Vec::new();
     for y in 0..camera.height {
         for x in 0..camera.width {
             let mut one = TraversalStats::default();
-            accel.intersect_with_stats(&camera.pixel_ray(x, y), &mut one);
+            accel.intersect_counted(&camera.pixel_ray(x, y), &mut one);
             cost.push(one.nodes_visited + one.prim_tests);
             total += &one;
         }
@@ -54,12 +54,12 @@ fn scalar_primary<A: AccelWithStats>(accel: &A, camera: &Camera) -> (TraversalSt
 
 /// The totals of tracing the primary rays as the renderer's packets: the same
 /// tiles and pixel blocks, one masked 8-wide packet per block.
-fn packet_primary<A: AccelWithStats>(accel: &A, camera: &Camera, s: &RenderSettings) -> TraversalStats {
+fn packet_primary<A: Accel>(accel: &A, camera: &Camera, s: &RenderSettings) -> TraversalStats {
     let grid = Grid::new(*camera, s.sampling);
     let mut total = TraversalStats::default();
     for tile in tiles(grid.width, grid.height, s.tile_size) {
         for_each_block(&grid, &tile, s.block, |rays, active, _| {
-            accel.intersect_packet_with_stats(&RayPacket8::from_rays_masked(rays, active), &mut total);
+            accel.intersect_packet_counted(&RayPacket8::from_rays_masked(rays, active), &mut total);
         });
     }
     total
@@ -67,12 +67,7 @@ fn packet_primary<A: AccelWithStats>(accel: &A, camera: &Camera, s: &RenderSetti
 
 /// Render counted per pixel, checking it against the plain and the totals-only
 /// renders: counting changes no pixel and no count.
-fn counted(
-    scene: &Scene,
-    accel: &(impl AccelWithStats + Sync),
-    camera: &Camera,
-    s: &RenderSettings,
-) -> Render {
+fn counted(scene: &Scene, accel: &impl Accel, camera: &Camera, s: &RenderSettings) -> Render {
     let pool = pool();
     let plain = render(scene, accel, camera, s, &pool, || {});
     let totals = render_counted(scene, accel, camera, s, Counting::Totals, &pool, || {});

@@ -1,7 +1,7 @@
 //! The lecture's ray casting loop: every ray against every primitive, nearest wins.
 
 use crate::accel::Accel;
-use crate::accel::stats::{AccelWithStats, CountedAccel, Counter, NoStats};
+use crate::accel::stats::Counter;
 use crate::geometry::{Intersect, Primitive};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -75,24 +75,6 @@ impl<'a> BruteForce<'a> {
 }
 
 impl Accel for BruteForce<'_> {
-    fn intersect(&self, ray: &Ray) -> Hit {
-        self.nearest(ray, &mut NoStats)
-    }
-
-    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
-        self.nearest_packet(rays, &mut NoStats)
-    }
-
-    fn occluded(&self, ray: &Ray) -> bool {
-        self.any(ray, &mut NoStats)
-    }
-
-    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
-        self.any_packet(rays, &mut NoStats)
-    }
-}
-
-impl CountedAccel for BruteForce<'_> {
     fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
         self.nearest(ray, stats)
     }
@@ -113,5 +95,3 @@ impl CountedAccel for BruteForce<'_> {
         self.any_packet(rays, stats)
     }
 }
-
-impl AccelWithStats for BruteForce<'_> {}

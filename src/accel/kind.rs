@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use crate::accel::stats::{AccelWithStats, CountedAccel, Counter};
+use crate::accel::stats::Counter;
 use crate::accel::{Accel, BruteForce, Bvh};
 use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
@@ -75,24 +75,6 @@ macro_rules! forward {
 }
 
 impl Accel for AnyAccel<'_> {
-    fn intersect(&self, ray: &Ray) -> Hit {
-        forward!(self, a => a.intersect(ray))
-    }
-
-    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
-        forward!(self, a => a.intersect_packet(rays))
-    }
-
-    fn occluded(&self, ray: &Ray) -> bool {
-        forward!(self, a => a.occluded(ray))
-    }
-
-    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
-        forward!(self, a => a.occluded_packet(rays))
-    }
-}
-
-impl CountedAccel for AnyAccel<'_> {
     fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
         forward!(self, a => a.intersect_counted(ray, stats))
     }
@@ -113,5 +95,3 @@ impl CountedAccel for AnyAccel<'_> {
         forward!(self, a => a.occluded_packet_counted(rays, stats))
     }
 }
-
-impl AccelWithStats for AnyAccel<'_> {}

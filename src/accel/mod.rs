@@ -3,8 +3,9 @@
 //!
 //! [`BruteForce`] is the lecture's loop (every ray against every object) and the
 //! reference every other structure is checked against; [`Bvh`] is the SAH
-//! bounding volume hierarchy. [`AccelKind`] picks one (`--accel none|bvh`), and
-//! [`CountedAccel`] and [`AccelWithStats`] run the same queries counting their cost.
+//! bounding volume hierarchy. [`AccelKind`] picks one (`--accel none|bvh`).
+//! Every query takes a counter of its cost ([`stats::Counter`]); the plain
+//! methods count nothing.
 
 pub mod brute_force;
 pub mod bvh;
@@ -14,23 +15,61 @@ pub mod stats;
 pub use brute_force::BruteForce;
 pub use bvh::Bvh;
 pub use kind::{AccelKind, AnyAccel};
-pub use stats::{AccelWithStats, CountedAccel, TraversalStats};
+pub use stats::TraversalStats;
 
+use crate::accel::stats::{Counter, NoStats};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
 
-/// Ray queries over a set of primitives, indexed by their position in the scene.
+/// Ray queries over a set of primitives, indexed by their position in the
+/// scene: nearest hit and any hit, for single rays and packets. Each query
+/// reports its traversal work (node visits, primitive tests, SIMD lanes) to a
+/// [`Counter`] the caller owns; the plain methods pass [`NoStats`], whose
+/// counting compiles away, and return exactly what the counted ones return.
 pub trait Accel: Sync {
+    /// Whether the queries report their work to the counter. raypack's own
+    /// structures do; an outside library (Embree) is a black box, and a render
+    /// through it is not counted (its traversal statistics are `None`).
+    const COUNTS_WORK: bool = true;
+
     /// The nearest hit of `ray` (the record's `ng` is not filled in).
-    fn intersect(&self, ray: &Ray) -> Hit;
+    fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit;
 
     /// The nearest hit of every active lane.
-    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F>;
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        stats: &mut S,
+    ) -> HitPacket<F>;
 
     /// Whether anything lies on `ray` in `[t_min, t_max]` (shadow rays).
-    fn occluded(&self, ray: &Ray) -> bool;
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool;
 
     /// The mask of active lanes on which something lies in `[t_min, t_max]`.
-    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F;
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F;
+
+    /// [`intersect_counted`](Self::intersect_counted), uncounted.
+    #[inline]
+    fn intersect(&self, ray: &Ray) -> Hit {
+        self.intersect_counted(ray, &mut NoStats)
+    }
+
+    /// [`intersect_packet_counted`](Self::intersect_packet_counted), uncounted.
+    #[inline]
+    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
+        self.intersect_packet_counted(rays, &mut NoStats)
+    }
+
+    /// [`occluded_counted`](Self::occluded_counted), uncounted.
+    #[inline]
+    fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_counted(ray, &mut NoStats)
+    }
+
+    /// [`occluded_packet_counted`](Self::occluded_packet_counted), uncounted.
+    #[inline]
+    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
+        self.occluded_packet_counted(rays, &mut NoStats)
+    }
 }

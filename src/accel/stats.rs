@@ -1,19 +1,17 @@
 //! Traversal statistics: what a ray query cost, counted without slowing the
 //! plain path.
 //!
-//! Traversal code is generic over a [`Counter`]. The plain [`Accel`] queries run
-//! with [`NoStats`], a zero-sized counter whose methods are empty and vanish
-//! after inlining; the `*_counted` queries of [`CountedAccel`] run the same code
-//! with any counter the caller owns, and the `*_with_stats` queries of
-//! [`AccelWithStats`] with a [`TraversalStats`], so a renderer keeps one per
-//! tile (or per lane, for a heat map) and adds them up with [`TraversalStats::merge`].
-//! No atomics, no globals.
+//! Traversal code is generic over a [`Counter`]. The `*_counted` queries of
+//! [`Accel`] run with any counter the caller owns, such as a
+//! [`TraversalStats`], so a renderer keeps one per tile (or per lane, for a
+//! heat map) and adds them up with [`TraversalStats::merge`]; the plain
+//! queries run the same code with [`NoStats`], a zero-sized counter whose
+//! methods are empty and vanish after inlining. No atomics, no globals.
+//!
+//! [`Accel`]: crate::accel::Accel
 
 use std::ops::AddAssign;
 
-use crate::accel::Accel;
-use crate::packet::{HitPacket, RayPacket};
-use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
 
 /// Receives the events of a traversal. Packet events take the mask of lanes
@@ -200,110 +198,6 @@ impl AddAssign<&TraversalStats> for TraversalStats {
 
 fn ratio(a: u64, b: u64) -> f64 {
     if b == 0 { 0.0 } else { a as f64 / b as f64 }
-}
-
-/// The [`Accel`] queries with their events reported to any [`Counter`] the
-/// caller owns. Each returns exactly what the plain query returns; with
-/// [`NoStats`] each is the plain query.
-pub trait CountedAccel: Accel {
-    /// [`Accel::intersect`], counted.
-    fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit;
-
-    /// [`Accel::intersect_packet`], counted.
-    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
-        &self,
-        rays: &RayPacket<F>,
-        stats: &mut S,
-    ) -> HitPacket<F>;
-
-    /// [`Accel::occluded`], counted.
-    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool;
-
-    /// [`Accel::occluded_packet`], counted.
-    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F;
-}
-
-/// The [`CountedAccel`] queries counted into a [`TraversalStats`], the counter
-/// most callers want.
-pub trait AccelWithStats: CountedAccel {
-    /// [`Accel::intersect`], counted.
-    fn intersect_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> Hit {
-        self.intersect_counted(ray, stats)
-    }
-
-    /// [`Accel::intersect_packet`], counted.
-    fn intersect_packet_with_stats<F: SimdFloat>(
-        &self,
-        rays: &RayPacket<F>,
-        stats: &mut TraversalStats,
-    ) -> HitPacket<F> {
-        self.intersect_packet_counted(rays, stats)
-    }
-
-    /// [`Accel::occluded`], counted.
-    fn occluded_with_stats(&self, ray: &Ray, stats: &mut TraversalStats) -> bool {
-        self.occluded_counted(ray, stats)
-    }
-
-    /// [`Accel::occluded_packet`], counted.
-    fn occluded_packet_with_stats<F: SimdFloat>(&self, rays: &RayPacket<F>, stats: &mut TraversalStats) -> F {
-        self.occluded_packet_counted(rays, stats)
-    }
-}
-
-/// Any [`Accel`] behind the [`CountedAccel`] API with nothing counted: its
-/// queries are the plain ones and a counter sees no events. Lets code written
-/// once over `CountedAccel` run uncounted on a structure that cannot count
-/// (Embree), as the renderer's plain path does.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Uncounted<'a, A>(pub &'a A);
-
-impl<A: Accel> Accel for Uncounted<'_, A> {
-    #[inline(always)]
-    fn intersect(&self, ray: &Ray) -> Hit {
-        self.0.intersect(ray)
-    }
-
-    #[inline(always)]
-    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
-        self.0.intersect_packet(rays)
-    }
-
-    #[inline(always)]
-    fn occluded(&self, ray: &Ray) -> bool {
-        self.0.occluded(ray)
-    }
-
-    #[inline(always)]
-    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
-        self.0.occluded_packet(rays)
-    }
-}
-
-impl<A: Accel> CountedAccel for Uncounted<'_, A> {
-    #[inline(always)]
-    fn intersect_counted<S: Counter>(&self, ray: &Ray, _: &mut S) -> Hit {
-        self.0.intersect(ray)
-    }
-
-    #[inline(always)]
-    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
-        &self,
-        rays: &RayPacket<F>,
-        _: &mut S,
-    ) -> HitPacket<F> {
-        self.0.intersect_packet(rays)
-    }
-
-    #[inline(always)]
-    fn occluded_counted<S: Counter>(&self, ray: &Ray, _: &mut S) -> bool {
-        self.0.occluded(ray)
-    }
-
-    #[inline(always)]
-    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, _: &mut S) -> F {
-        self.0.occluded_packet(rays)
-    }
 }
 
 #[cfg(test)]

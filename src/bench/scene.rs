@@ -15,7 +15,7 @@
 use std::time::Instant;
 
 use crate::accel::Accel;
-use crate::accel::stats::{NoStats, Uncounted};
+use crate::accel::stats::NoStats;
 use crate::bench::rays::RaySet;
 use crate::bench::slowdown::Slowdown;
 use crate::bench::traversal::{trace_packets, trace_single};
@@ -103,15 +103,14 @@ impl PrimaryFrame {
     }
 
     fn trace_with<K: TraceKernel, A: Accel>(&self, accel: &A, block: Block, pool: &rayon::ThreadPool) -> u64 {
-        // Uncounted: the same queries as the renderer's plain path, with no counting compiled in.
-        let accel = Uncounted(accel);
+        // NoStats: the same queries as the renderer's plain path, with no counting compiled in.
         let per_tile = tiles::run(
             pool,
             &self.tiles,
             |tile| {
                 let mut hits = 0u64;
                 for_each_block(&self.grid, tile, block, |rays, active, _| {
-                    let h = K::intersect(&accel, rays, active, &mut NoStats);
+                    let h = K::intersect(accel, rays, active, &mut NoStats);
                     hits += lanes(active).filter(|&i| h[i].is_hit()).count() as u64;
                 });
                 hits

@@ -20,7 +20,7 @@ use std::time::Instant;
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::accel::{Accel, AccelWithStats, Bvh, TraversalStats};
+use crate::accel::{Accel, Bvh, TraversalStats};
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{Query, RayKind, RaySet, RaySource, default_light};
 use crate::bench::slowdown::Slowdown;
@@ -597,14 +597,14 @@ fn counted(bvh: &Bvh, set: &RaySet) -> [TraversalStats; 2] {
     let mut stats = [TraversalStats::default(); 2];
     for r in &set.rays {
         match set.kind.query() {
-            Query::Nearest => _ = bvh.intersect_with_stats(r, &mut stats[0]),
-            Query::AnyHit => _ = bvh.occluded_with_stats(r, &mut stats[0]),
+            Query::Nearest => _ = bvh.intersect_counted(r, &mut stats[0]),
+            Query::AnyHit => _ = bvh.occluded_counted(r, &mut stats[0]),
         }
     }
     for p in &set.packets {
         match set.kind.query() {
-            Query::Nearest => _ = bvh.intersect_packet_with_stats(p, &mut stats[1]),
-            Query::AnyHit => _ = bvh.occluded_packet_with_stats(p, &mut stats[1]),
+            Query::Nearest => _ = bvh.intersect_packet_counted(p, &mut stats[1]),
+            Query::AnyHit => _ = bvh.occluded_packet_counted(p, &mut stats[1]),
         }
     }
     stats

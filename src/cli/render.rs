@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args as ClapArgs;
 
-use crate::accel::{Accel, CountedAccel};
+use crate::accel::Accel;
 use crate::atomic_file::AtomicFile;
 use crate::camera::Camera;
 use crate::cli::args::{check_image_memory, load_scene, parse_size, scene_camera, thread_pool};
@@ -16,9 +16,7 @@ use crate::picture::output::png_bytes;
 use crate::picture::progress::Progress;
 use crate::picture::report::{RenderReport, RunInfo};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
-use crate::render::{
-    Block, Counting, KernelKind, Mode, Render, RenderSettings, Sampling, render, render_counted,
-};
+use crate::render::{Block, Counting, KernelKind, Mode, Render, RenderSettings, Sampling, render_counted};
 use crate::scene::{Light, Scene};
 use glam::Vec3;
 
@@ -106,12 +104,6 @@ impl WithAccel for Job<'_> {
     type Output = (Render, f64);
 
     fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
-        let out =
-            self.with_progress(|tick| render(self.scene, accel, self.camera, self.settings, self.pool, tick));
-        (out, setup_seconds)
-    }
-
-    fn run_counted<A: CountedAccel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
         let out = self.with_progress(|tick| {
             let (scene, camera, settings) = (self.scene, self.camera, self.settings);
             render_counted(scene, accel, camera, settings, self.counting, self.pool, tick)

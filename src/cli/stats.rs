@@ -9,12 +9,11 @@ use std::time::Instant;
 
 use clap::Args as ClapArgs;
 
-use crate::accel::stats::CountedAccel;
 use crate::accel::{Accel, TraversalStats};
 use crate::cli::args::{load_scene, thread_pool};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, WithAccel, with_accel};
-use crate::render::spd::{spd_counts, spd_counts_with_traversal};
+use crate::render::spd::spd_counts_with_traversal;
 use crate::render::spd_published::{self, Published};
 use crate::render::{KernelKind, RayCounts};
 use crate::scene::Scene;
@@ -57,19 +56,8 @@ impl WithAccel for Spd<'_> {
 
     fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
         let start = Instant::now();
-        let counts = spd_counts(self.scene, accel, self.kernel, self.pool)?;
-        Ok((counts, setup_seconds, start.elapsed().as_secs_f64(), None))
-    }
-
-    fn run_counted<A: CountedAccel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
-        let start = Instant::now();
         let (counts, traversal) = spd_counts_with_traversal(self.scene, accel, self.kernel, self.pool)?;
-        Ok((
-            counts,
-            setup_seconds,
-            start.elapsed().as_secs_f64(),
-            Some(traversal),
-        ))
+        Ok((counts, setup_seconds, start.elapsed().as_secs_f64(), traversal))
     }
 }
 

@@ -22,6 +22,7 @@ use glam::{Mat4, Vec3};
 use embree4_sys as sys;
 
 use crate::accel::Accel;
+use crate::accel::stats::Counter;
 use crate::embree::EmbreeError;
 use crate::embree::denormals::flush_denormals;
 use crate::embree::device::Device;
@@ -474,8 +475,11 @@ impl EmbreeScene {
     }
 }
 
+// Embree's traversal is a black box: the counters see nothing.
 impl Accel for EmbreeScene {
-    fn intersect(&self, ray: &Ray) -> Hit {
+    const COUNTS_WORK: bool = false;
+
+    fn intersect_counted<S: Counter>(&self, ray: &Ray, _: &mut S) -> Hit {
         if !traceable(ray) {
             return Hit::none(ray);
         }
@@ -497,7 +501,11 @@ impl Accel for EmbreeScene {
         }
     }
 
-    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        _: &mut S,
+    ) -> HitPacket<F> {
         match F::LANES {
             4 => self.packet::<F, RayHit4>(rays),
             8 => self.packet::<F, RayHit8>(rays),
@@ -506,7 +514,7 @@ impl Accel for EmbreeScene {
         }
     }
 
-    fn occluded(&self, ray: &Ray) -> bool {
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, _: &mut S) -> bool {
         if !traceable(ray) {
             return false;
         }
@@ -518,7 +526,7 @@ impl Accel for EmbreeScene {
         record.inner.ray.tfar == f32::NEG_INFINITY
     }
 
-    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, _: &mut S) -> F {
         match F::LANES {
             4 => self.packet_occluded::<F, RayHit4>(rays),
             8 => self.packet_occluded::<F, RayHit8>(rays),

@@ -150,7 +150,7 @@ impl Triangle {
     /// Bounding box of every point the kernels can hit; None for a degenerate
     /// triangle, which no ray can hit.
     ///
-    /// The kernels accept hits up to [`EDGE_EPSILON`] outside the edges in
+    /// The kernels accept hits up to `EDGE_EPSILON` (2⁻²⁰) outside the edges in
     /// barycentric units, which is that fraction of the edges' length in space:
     /// the corners of the accepted region lie within `3·EDGE_EPSILON` of the
     /// edge vectors from the vertices, so the vertices' box is grown by

@@ -1,15 +1,15 @@
 //! The choice of acceleration structure, made once at run time and then handed
 //! to code generic over [`Accel`] (renderer, statistics, benchmarks) through a
-//! visitor, so the traversal is monomorphised per structure. raypack's own
-//! structures go to [`WithAccel::run_counted`], where the job may count their
-//! traversal work; Embree, which cannot report it, goes to [`WithAccel::run`].
+//! visitor, so the traversal is monomorphised per structure. A job may count
+//! the traversal work of the structures that report it ([`Accel::COUNTS_WORK`]:
+//! raypack's own, not Embree).
 //!
 //! Adding a structure is one enum variant and one match arm in [`with_accel`].
 
 use std::time::Instant;
 
 pub use crate::accel::AccelKind;
-use crate::accel::{Accel, BruteForce, Bvh, CountedAccel};
+use crate::accel::{Accel, BruteForce, Bvh};
 pub use crate::engine::Engine;
 use crate::scene::Scene;
 
@@ -19,15 +19,6 @@ pub trait WithAccel {
     type Output;
     /// Run with the structure `accel`, built in `setup_seconds`.
     fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output;
-
-    /// Run with one of raypack's structures, whose traversal work can be
-    /// counted; by default the same as [`run`](Self::run).
-    fn run_counted<A: CountedAccel>(self, accel: &A, setup_seconds: f64) -> Self::Output
-    where
-        Self: Sized,
-    {
-        self.run(accel, setup_seconds)
-    }
 }
 
 /// Build the structure `kind` over `scene`'s primitives, timing the build, and run `job` with it.
@@ -36,11 +27,11 @@ pub fn with_accel<J: WithAccel>(scene: &Scene, kind: AccelKind, job: J) -> J::Ou
     match kind {
         AccelKind::None => {
             let accel = BruteForce::new(&scene.primitives);
-            job.run_counted(&accel, start.elapsed().as_secs_f64())
+            job.run(&accel, start.elapsed().as_secs_f64())
         }
         AccelKind::Bvh => {
             let accel = Bvh::new(&scene.primitives);
-            job.run_counted(&accel, start.elapsed().as_secs_f64())
+            job.run(&accel, start.elapsed().as_secs_f64())
         }
     }
 }

@@ -15,7 +15,7 @@
 
 use std::marker::PhantomData;
 
-use crate::accel::CountedAccel;
+use crate::accel::Accel;
 use crate::packet::RayPacket;
 use crate::ray::Hit;
 use crate::render::batch::{BATCH, Rays};
@@ -25,7 +25,7 @@ use crate::simd::{SimdFloat, SimdU32};
 /// Nearest-hit and occlusion queries on batches of rays.
 pub trait TraceKernel: Send + Sync + 'static {
     /// Nearest hits of the lanes in `active`; other lanes get [`Hit::none`].
-    fn intersect<A: CountedAccel, C: TileCounter>(
+    fn intersect<A: Accel, C: TileCounter>(
         accel: &A,
         rays: &Rays,
         active: u32,
@@ -33,8 +33,7 @@ pub trait TraceKernel: Send + Sync + 'static {
     ) -> [Hit; BATCH];
 
     /// The mask of lanes in `active` whose ray is blocked in `[t_min, t_max]`.
-    fn occluded<A: CountedAccel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C)
-    -> u32;
+    fn occluded<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> u32;
 }
 
 /// One ray at a time: [`Accel::intersect`] and [`Accel::occluded`].
@@ -46,7 +45,7 @@ pub struct ScalarKernel;
 
 impl TraceKernel for ScalarKernel {
     #[inline]
-    fn intersect<A: CountedAccel, C: TileCounter>(
+    fn intersect<A: Accel, C: TileCounter>(
         accel: &A,
         rays: &Rays,
         active: u32,
@@ -63,12 +62,7 @@ impl TraceKernel for ScalarKernel {
     }
 
     #[inline]
-    fn occluded<A: CountedAccel, C: TileCounter>(
-        accel: &A,
-        rays: &Rays,
-        active: u32,
-        counter: &mut C,
-    ) -> u32 {
+    fn occluded<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> u32 {
         (0..BATCH)
             .filter(|&i| {
                 active >> i & 1 == 1 && {
@@ -94,7 +88,7 @@ pub type Packet8Kernel = PacketKernel<wide::f32x8>;
 
 impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
     #[inline]
-    fn intersect<A: CountedAccel, C: TileCounter>(
+    fn intersect<A: Accel, C: TileCounter>(
         accel: &A,
         rays: &Rays,
         active: u32,
@@ -129,12 +123,7 @@ impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
     }
 
     #[inline]
-    fn occluded<A: CountedAccel, C: TileCounter>(
-        accel: &A,
-        rays: &Rays,
-        active: u32,
-        counter: &mut C,
-    ) -> u32 {
+    fn occluded<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> u32 {
         let mut blocked = 0;
         for (c, chunk) in rays.chunks(F::LANES).enumerate() {
             let first = c * F::LANES;

@@ -100,7 +100,7 @@ mod tests {
     use wide::{f32x4, f32x8};
 
     use super::*;
-    use crate::accel::{AccelWithStats, Bvh};
+    use crate::accel::{Accel, Bvh};
     use crate::packet::RayPacket;
     use crate::ray::Ray;
     use crate::render::batch::{ALL_LANES, Rays};
@@ -140,8 +140,8 @@ mod tests {
             let active = 1 + rng.below((1 << BATCH) - 1);
             let mut direct = TraversalStats::default();
             let packet = RayPacket::<f32x8>::from_rays_masked(&rays, active);
-            bvh.intersect_packet_with_stats(&packet, &mut direct);
-            bvh.occluded_packet_with_stats(&packet, &mut direct);
+            bvh.intersect_packet_counted(&packet, &mut direct);
+            bvh.occluded_packet_counted(&packet, &mut direct);
             let mut lanes = LaneCosts::default();
             PacketKernel::<f32x8>::intersect(&bvh, &rays, active, &mut lanes);
             PacketKernel::<f32x8>::occluded(&bvh, &rays, active, &mut lanes);
@@ -171,7 +171,7 @@ mod tests {
         let cost = lanes.take();
         for (i, ray) in rays.iter().enumerate() {
             let mut one = TraversalStats::default();
-            bvh.intersect_with_stats(ray, &mut one);
+            bvh.intersect_counted(ray, &mut one);
             assert_eq!(cost[i], one.nodes_visited + one.prim_tests, "lane {i}");
         }
     }

@@ -44,8 +44,8 @@ pub use stats::RayCounts;
 pub use tiles::Tile;
 pub use whitted::Tracer;
 
-use crate::accel::stats::{NoStats, Uncounted};
-use crate::accel::{Accel, CountedAccel, TraversalStats};
+use crate::accel::stats::NoStats;
+use crate::accel::{Accel, TraversalStats};
 use crate::camera::Camera;
 use crate::scene::Scene;
 use batch::BATCH;
@@ -85,19 +85,13 @@ pub fn render<A: Accel>(
     pool: &rayon::ThreadPool,
     on_tile: impl Fn() + Sync,
 ) -> Render {
-    let accel = Uncounted(accel);
-    match settings.kernel {
-        KernelKind::Scalar => {
-            render_with::<ScalarKernel, NoStats, _>(scene, &accel, camera, settings, pool, on_tile)
-        }
-        KernelKind::Packet8 => {
-            render_with::<Packet8Kernel, NoStats, _>(scene, &accel, camera, settings, pool, on_tile)
-        }
-    }
+    render_counted(scene, accel, camera, settings, Counting::Off, pool, on_tile)
 }
 
-/// [`render`], counting the traversal work of every ray as `counting` says.
-pub fn render_counted<A: CountedAccel>(
+/// [`render`], counting the traversal work of every ray as `counting` says
+/// where the structure reports it ([`Accel::COUNTS_WORK`]; otherwise the
+/// render's `traversal` is `None`, as with [`Counting::Off`]).
+pub fn render_counted<A: Accel>(
     scene: &Scene,
     accel: &A,
     camera: &Camera,
@@ -106,20 +100,109 @@ pub fn render_counted<A: CountedAccel>(
     pool: &rayon::ThreadPool,
     on_tile: impl Fn() + Sync,
 ) -> Render {
-    use KernelKind::{Packet8, Scalar};
-    match (settings.kernel, counting) {
-        (_, Counting::Off) => render(scene, accel, camera, settings, pool, on_tile),
-        (Scalar, Counting::Totals) => {
-            render_with::<ScalarKernel, TraversalStats, A>(scene, accel, camera, settings, pool, on_tile)
+    let counting = if A::COUNTS_WORK { counting } else { Counting::Off };
+    let job = Job {
+        scene,
+        accel,
+        camera,
+        settings,
+        pool,
+        on_tile,
+    };
+    match counting {
+        Counting::Off => job.counted::<NoStats>(),
+        Counting::Totals => job.counted::<TraversalStats>(),
+        Counting::PerPixel => job.counted::<LaneCosts>(),
+    }
+}
+
+/// One render's inputs, on their way to the instantiation of the trace loop
+/// for the chosen kernel and counter.
+struct Job<'a, A, T> {
+    scene: &'a Scene,
+    accel: &'a A,
+    camera: &'a Camera,
+    settings: &'a RenderSettings,
+    pool: &'a rayon::ThreadPool,
+    on_tile: T,
+}
+
+impl<A: Accel, T: Fn() + Sync> Job<'_, A, T> {
+    /// Render counting with `C`, through the kernel the settings name.
+    fn counted<C: TileCounter>(self) -> Render {
+        match self.settings.kernel {
+            KernelKind::Scalar => self.traced::<ScalarKernel, C>(),
+            KernelKind::Packet8 => self.traced::<Packet8Kernel, C>(),
         }
-        (Scalar, Counting::PerPixel) => {
-            render_with::<ScalarKernel, LaneCosts, A>(scene, accel, camera, settings, pool, on_tile)
+    }
+
+    /// Render through kernel `K`, counting with `C`.
+    fn traced<K: TraceKernel, C: TileCounter>(self) -> Render {
+        let Job {
+            scene,
+            accel,
+            camera,
+            settings,
+            pool,
+            on_tile,
+        } = self;
+        let grid = Grid::new(*camera, settings.sampling);
+        let tracer = Tracer {
+            scene,
+            accel,
+            epsilon: whitted::ray_epsilon(scene, camera.eye),
+            max_depth: settings.max_depth.max(1),
+        };
+        let tile_size = settings.tile_size.max(1);
+        let tiles = tiles::tiles(grid.width, grid.height, tile_size);
+        let start = Instant::now();
+        let done = tiles::run(
+            pool,
+            &tiles,
+            |tile| trace_tile::<K, C, A>(&tracer, &grid, tile, settings),
+            on_tile,
+        );
+        let trace_seconds = start.elapsed().as_secs_f64();
+
+        // Assemble the frame (and the pixel costs) from the tiles.
+        let mut frame = Frame::new(grid.width, grid.height);
+        let mut pixel_cost = vec![0; if C::PER_PIXEL { frame.prim.len() } else { 0 }];
+        for (tile, out) in tiles.iter().zip(&done) {
+            for row in 0..tile.height {
+                let src = (row * tile.width) as usize..((row + 1) * tile.width) as usize;
+                let dst = frame.index(tile.x, tile.y + row);
+                let dst = dst..dst + tile.width as usize;
+                frame.color[dst.clone()].copy_from_slice(&out.value.color[src.clone()]);
+                frame.depth[dst.clone()].copy_from_slice(&out.value.depth[src.clone()]);
+                frame.prim[dst.clone()].copy_from_slice(&out.value.prim[src.clone()]);
+                if C::PER_PIXEL {
+                    pixel_cost[dst].copy_from_slice(&out.value.cost[src]);
+                }
+            }
         }
-        (Packet8, Counting::Totals) => {
-            render_with::<Packet8Kernel, TraversalStats, A>(scene, accel, camera, settings, pool, on_tile)
+        if settings.mode == Mode::Depth {
+            frame.color = shade::depth(&frame.depth);
         }
-        (Packet8, Counting::PerPixel) => {
-            render_with::<Packet8Kernel, LaneCosts, A>(scene, accel, camera, settings, pool, on_tile)
+        let traversal = done
+            .iter()
+            .map(|d| d.value.traversal)
+            .collect::<Option<Vec<_>>>()
+            .map(|per_tile| Traversal {
+                total: per_tile.iter().fold(TraversalStats::default(), |mut t, s| {
+                    t += s;
+                    t
+                }),
+                tiles: per_tile,
+                pixel_cost: C::PER_PIXEL.then_some(pixel_cost),
+            });
+        Render {
+            frame,
+            tile_seconds: done.iter().map(|d| d.seconds).collect(),
+            counts: done.iter().map(|d| d.value.counts).sum(),
+            tiles,
+            trace_seconds,
+            tiles_x: grid.width.div_ceil(tile_size),
+            traversal,
         }
     }
 }
@@ -136,75 +219,7 @@ struct TileOut {
     traversal: Option<TraversalStats>,
 }
 
-fn render_with<K: TraceKernel, C: TileCounter, A: CountedAccel>(
-    scene: &Scene,
-    accel: &A,
-    camera: &Camera,
-    settings: &RenderSettings,
-    pool: &rayon::ThreadPool,
-    on_tile: impl Fn() + Sync,
-) -> Render {
-    let grid = Grid::new(*camera, settings.sampling);
-    let tracer = Tracer {
-        scene,
-        accel,
-        epsilon: whitted::ray_epsilon(scene, camera.eye),
-        max_depth: settings.max_depth.max(1),
-    };
-    let tile_size = settings.tile_size.max(1);
-    let tiles = tiles::tiles(grid.width, grid.height, tile_size);
-    let start = Instant::now();
-    let done = tiles::run(
-        pool,
-        &tiles,
-        |tile| trace_tile::<K, C, A>(&tracer, &grid, tile, settings),
-        on_tile,
-    );
-    let trace_seconds = start.elapsed().as_secs_f64();
-
-    // Assemble the frame (and the pixel costs) from the tiles.
-    let mut frame = Frame::new(grid.width, grid.height);
-    let mut pixel_cost = vec![0; if C::PER_PIXEL { frame.prim.len() } else { 0 }];
-    for (tile, out) in tiles.iter().zip(&done) {
-        for row in 0..tile.height {
-            let src = (row * tile.width) as usize..((row + 1) * tile.width) as usize;
-            let dst = frame.index(tile.x, tile.y + row);
-            let dst = dst..dst + tile.width as usize;
-            frame.color[dst.clone()].copy_from_slice(&out.value.color[src.clone()]);
-            frame.depth[dst.clone()].copy_from_slice(&out.value.depth[src.clone()]);
-            frame.prim[dst.clone()].copy_from_slice(&out.value.prim[src.clone()]);
-            if C::PER_PIXEL {
-                pixel_cost[dst].copy_from_slice(&out.value.cost[src]);
-            }
-        }
-    }
-    if settings.mode == Mode::Depth {
-        frame.color = shade::depth(&frame.depth);
-    }
-    let traversal = done
-        .iter()
-        .map(|d| d.value.traversal)
-        .collect::<Option<Vec<_>>>()
-        .map(|per_tile| Traversal {
-            total: per_tile.iter().fold(TraversalStats::default(), |mut t, s| {
-                t += s;
-                t
-            }),
-            tiles: per_tile,
-            pixel_cost: C::PER_PIXEL.then_some(pixel_cost),
-        });
-    Render {
-        frame,
-        tile_seconds: done.iter().map(|d| d.seconds).collect(),
-        counts: done.iter().map(|d| d.value.counts).sum(),
-        tiles,
-        trace_seconds,
-        tiles_x: grid.width.div_ceil(tile_size),
-        traversal,
-    }
-}
-
-fn trace_tile<K: TraceKernel, C: TileCounter, A: CountedAccel>(
+fn trace_tile<K: TraceKernel, C: TileCounter, A: Accel>(
     tracer: &Tracer<A>,
     grid: &Grid,
     tile: &Tile,

@@ -12,7 +12,6 @@
 //! files they should lie within 10% of the published figures, and they are the
 //! same for the scalar and the packet kernels.
 
-use crate::accel::stats::CountedAccel;
 use crate::accel::{Accel, TraversalStats};
 use crate::camera::{Camera, CameraError};
 use crate::render::counting::Counting;
@@ -49,18 +48,20 @@ pub fn spd_counts<A: Accel>(
     Ok(render(scene, accel, &camera, &spd_settings(kernel), pool, || {}).counts)
 }
 
-/// [`spd_counts`], and the traversal work of all those rays.
-pub fn spd_counts_with_traversal<A: CountedAccel>(
+/// [`spd_counts`], and the traversal work of all those rays where the
+/// structure reports it ([`Accel::COUNTS_WORK`]).
+///
+/// [`Accel::COUNTS_WORK`]: crate::accel::Accel::COUNTS_WORK
+pub fn spd_counts_with_traversal<A: Accel>(
     scene: &Scene,
     accel: &A,
     kernel: KernelKind,
     pool: &rayon::ThreadPool,
-) -> Result<(RayCounts, TraversalStats), CameraError> {
+) -> Result<(RayCounts, Option<TraversalStats>), CameraError> {
     let camera = spd_camera(scene)?;
     let settings = spd_settings(kernel);
     let r = render_counted(scene, accel, &camera, &settings, Counting::Totals, pool, || {});
-    let traversal = r.traversal.map(|t| t.total).unwrap_or_default();
-    Ok((r.counts, traversal))
+    Ok((r.counts, r.traversal.map(|t| t.total)))
 }
 
 /// The scene's camera (or the default one) at the SPD's resolution.

@@ -19,7 +19,7 @@
 
 use glam::Vec3;
 
-use crate::accel::CountedAccel;
+use crate::accel::Accel;
 use crate::bounds::Aabb;
 use crate::ray::{Hit, Ray};
 use crate::render::batch::{BATCH, Rays};
@@ -78,7 +78,7 @@ pub(crate) fn lanes(mask: u32) -> impl Iterator<Item = usize> {
     (0..BATCH).filter(move |i| mask >> i & 1 == 1)
 }
 
-impl<A: CountedAccel> Tracer<'_, A> {
+impl<A: Accel> Tracer<'_, A> {
     /// Trace the lanes of `active` at `depth` and return their colours.
     pub fn trace<K: TraceKernel, C: TileCounter>(
         &self,

@@ -17,7 +17,7 @@
 //! same records.
 //!
 //! ```
-//! use raypack::accel::{Accel, AccelWithStats, BruteForce, Bvh, TraversalStats};
+//! use raypack::accel::{Accel, BruteForce, Bvh, TraversalStats};
 //! use raypack::scene::generate::random::random_spheres;
 //! use raypack::packet::RayPacket8;
 //! use raypack::ray::Ray;
@@ -31,7 +31,7 @@
 //!
 //! // Eight rays at once, with the cost counted.
 //! let mut stats = TraversalStats::default();
-//! let hits = bvh.intersect_packet_with_stats(&RayPacket8::from_rays(&[ray; 8]), &mut stats);
+//! let hits = bvh.intersect_packet_counted(&RayPacket8::from_rays(&[ray; 8]), &mut stats);
 //! assert_eq!(hits.hit(7), hit);
 //! println!("{}", stats.caption()); // e.g. "9.0 nodes/ray, 1.0 prims/ray, lanes 100%"
 //! ```
@@ -70,7 +70,7 @@ fn prefetch_line(p: *const u8) {
 use rayon::prelude::*;
 
 use crate::accel::Accel;
-use crate::accel::stats::{AccelWithStats, CountedAccel, Counter, NoStats};
+use crate::accel::stats::Counter;
 use crate::bounds::Aabb;
 use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
@@ -456,26 +456,8 @@ impl Bvh {
     }
 }
 
-impl Accel for Bvh {
-    fn intersect(&self, ray: &Ray) -> Hit {
-        traverse_single::intersect(self, ray, &mut NoStats)
-    }
-
-    fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> HitPacket<F> {
-        traverse_packet::intersect_packet(self, rays, &mut NoStats)
-    }
-
-    fn occluded(&self, ray: &Ray) -> bool {
-        occlusion::occluded(self, ray, &mut NoStats)
-    }
-
-    fn occluded_packet<F: SimdFloat>(&self, rays: &RayPacket<F>) -> F {
-        occlusion::occluded_packet(self, rays, &mut NoStats)
-    }
-}
-
 // The query entry points are generic over the counter already.
-impl CountedAccel for Bvh {
+impl Accel for Bvh {
     fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
         traverse_single::intersect(self, ray, stats)
     }
@@ -496,5 +478,3 @@ impl CountedAccel for Bvh {
         occlusion::occluded_packet(self, rays, stats)
     }
 }
-
-impl AccelWithStats for Bvh {}

@@ -127,7 +127,7 @@ mod tests {
     use glam::Vec3;
 
     use crate::accel::stats::TraversalStats;
-    use crate::accel::{Accel, AccelWithStats, Bvh};
+    use crate::accel::{Accel, Bvh};
     use crate::packet::RayPacket8;
     use crate::ray::Ray;
     use crate::rng::Rng;
@@ -166,8 +166,8 @@ mod tests {
                     .collect();
                 let active = if rng.below(4) == 0 { 0b1011_1111 } else { 0xff };
                 let packet = RayPacket8::from_rays_masked(&rays, active);
-                let hits = bvh.intersect_packet_with_stats(&packet, &mut stats);
-                let occluded = bvh.occluded_packet_with_stats(&packet, &mut stats).bitmask();
+                let hits = bvh.intersect_packet_counted(&packet, &mut stats);
+                let occluded = bvh.occluded_packet_counted(&packet, &mut stats).bitmask();
                 for (lane, ray) in rays.iter().enumerate().filter(|(l, _)| active >> l & 1 == 1) {
                     assert_eq!(hits.hit(lane), bvh.intersect(ray), "lane {lane} of {rays:?}");
                     assert_eq!(
