@@ -40,6 +40,7 @@
 
 pub mod build_sah;
 pub mod leaf;
+pub mod leaf_store;
 pub mod node;
 pub mod occlusion;
 pub mod query;
@@ -76,9 +77,8 @@ use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
-use leaf::{
-    BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, SphereBlock, TriangleBlock, block_lanes, intersect_blocks,
-};
+use leaf::LeafRef;
+use leaf_store::LeafStore;
 use node::{Node, NodeId, NodePair, ROOT};
 
 /// A BVH (binary nodes for packets, wide nodes for single rays) owning a
@@ -89,21 +89,12 @@ pub struct Bvh {
     pairs: Vec<NodePair>,
     /// The same tree collapsed to wide nodes, which single rays traverse.
     wide: Vec<wide::WideNode>,
-    /// The records of leaves that are neither all triangles nor all spheres,
-    /// in leaf order (a leaf is a contiguous run).
-    prims: Vec<LeafPrim>,
-    /// The triangles of all-triangle leaves, in leaf order (a leaf is a contiguous run).
-    triangle_blocks: Vec<TriangleBlock>,
-    /// The spheres of all-sphere leaves, in leaf order (a leaf is a contiguous run).
-    sphere_blocks: Vec<SphereBlock>,
+    /// The primitives, which the leaves of both trees name.
+    leaves: LeafStore,
+    /// The leaf of the primitives with no finite box, tested by every ray.
+    unbounded: LeafRef,
     /// Primitives in the tree.
     bounded: usize,
-    /// The primitives `prims` refers to rather than holds (see [`leaf`]).
-    others: Vec<Primitive>,
-    /// Primitives tested by every ray (no finite box).
-    unbounded: Vec<Primitive>,
-    /// Input index of each of `unbounded`.
-    unbounded_ids: Vec<u32>,
     /// Degenerate triangles left out.
     skipped: usize,
 }
@@ -131,33 +122,6 @@ pub struct BvhInfo {
     pub bytes: usize,
 }
 
-/// What a leaf holds, which decides how it is stored.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Holds {
-    /// Triangles only: [`TriangleBlock`]s.
-    Triangles,
-    /// Spheres only: [`SphereBlock`]s.
-    Spheres,
-    /// Anything else: [`LeafPrim`] records.
-    Mixed,
-}
-
-impl Holds {
-    /// What the leaf of `prims` (not empty) holds.
-    fn of<'a>(mut prims: impl Iterator<Item = &'a Primitive>) -> Self {
-        let first = match prims.next() {
-            Some(Primitive::Triangle(_)) => Holds::Triangles,
-            Some(Primitive::Sphere(_)) => Holds::Spheres,
-            _ => return Holds::Mixed,
-        };
-        let same = |p: &Primitive| match first {
-            Holds::Triangles => matches!(p, Primitive::Triangle(_)),
-            _ => matches!(p, Primitive::Sphere(_)),
-        };
-        if prims.all(same) { first } else { Holds::Mixed }
-    }
-}
-
 impl Bvh {
     /// Build over `prims` with the default [`BuildOptions`].
     pub fn new(prims: &[Primitive]) -> Self {
@@ -175,7 +139,7 @@ impl Bvh {
             .collect();
         let mut boxes = Vec::with_capacity(prims.len());
         let mut bounded_ids = Vec::with_capacity(prims.len());
-        let (mut unbounded, mut unbounded_ids, mut skipped) = (Vec::new(), Vec::new(), 0);
+        let (mut unbounded_ids, mut skipped) = (Vec::new(), 0);
         for (i, (p, b)) in prims.iter().zip(all_boxes).enumerate() {
             match b {
                 Some(b) => {
@@ -183,10 +147,7 @@ impl Bvh {
                     bounded_ids.push(i as u32);
                 }
                 _ if matches!(p, Primitive::Triangle(t) if t.is_degenerate()) => skipped += 1,
-                _ => {
-                    unbounded.push(p.clone());
-                    unbounded_ids.push(i as u32);
-                }
+                _ => unbounded_ids.push(i as u32),
             }
         }
         let (mut pairs, order) = if boxes.is_empty() {
@@ -195,103 +156,25 @@ impl Bvh {
             let built = build_sah::build(&boxes, options);
             (built.pairs, built.order)
         };
-        // Store each leaf's primitives, in build order: as triangle or sphere
-        // blocks if they are all triangles or all spheres, else as records; the
-        // leaf nodes then point there.
+        // Store each leaf's primitives; the leaf nodes then point there.
         let mut leaves: Vec<&mut Node> = pairs
             .iter_mut()
             .flat_map(|pair| &mut pair.0)
             .filter(|n| n.is_leaf() && n.meta != 0)
             .collect();
         leaves.sort_unstable_by_key(|n| n.first);
-        let input = |k: &u32| {
-            let id = bounded_ids[*k as usize];
+        let input = |k: u32| {
+            let id = bounded_ids[k as usize];
             (&prims[id as usize], id)
         };
-        let range_of = |node: &Node| match node.contents() {
-            LeafRef::Prims(range) => range,
-            _ => unreachable!("the build makes leaves of primitive ranges"),
-        };
-        // What each leaf holds, in parallel: the primitives are read in leaf
-        // order, far from their input order, so this mostly waits on memory.
-        let holds: Vec<Holds> = leaves
-            .par_iter()
-            .map(|node| Holds::of(order[range_of(node)].iter().map(|k| input(k).0)))
-            .collect();
-        // Lay the blocks out leaf by leaf, each block a run of leaf primitives.
-        let (mut leaf_prims, mut others) = (Vec::new(), Vec::new());
-        let (mut triangle_runs, mut sphere_runs) = (Vec::new(), Vec::new());
-        for (node, holds) in leaves.iter_mut().zip(holds) {
-            let range = range_of(node);
-            let count = range.len();
-            let runs = || {
-                range
-                    .clone()
-                    .step_by(BLOCK_SIZE)
-                    .map(move |start| start..(start + BLOCK_SIZE).min(range.end))
-            };
-            let leaf = match holds {
-                Holds::Triangles => {
-                    let at = triangle_runs.len();
-                    triangle_runs.extend(runs());
-                    LeafRef::Triangles {
-                        blocks: at..triangle_runs.len(),
-                        count,
-                    }
-                }
-                Holds::Spheres => {
-                    let at = sphere_runs.len();
-                    sphere_runs.extend(runs());
-                    LeafRef::Spheres {
-                        blocks: at..sphere_runs.len(),
-                        count,
-                    }
-                }
-                Holds::Mixed => {
-                    let at = leaf_prims.len();
-                    for k in &order[range] {
-                        let (prim, id) = input(k);
-                        leaf_prims.push(LeafPrim::new(prim, id, &mut others));
-                    }
-                    LeafRef::Prims(at..leaf_prims.len())
-                }
-            };
-            (node.first, node.meta) = leaf.encode();
-        }
-        // Fill the blocks in parallel, in place (an indexed collect).
-        let triangle_blocks: Vec<TriangleBlock> = triangle_runs
-            .par_iter()
-            .map(|run| {
-                // A block's lanes on the stack (the last repeated into unused slots).
-                let lanes: [_; BLOCK_SIZE] =
-                    std::array::from_fn(|i| match input(&order[run.start + i.min(run.len() - 1)]) {
-                        (Primitive::Triangle(t), id) => (*t.projected(), id),
-                        _ => unreachable!("a triangle leaf holds triangles"),
-                    });
-                TriangleBlock::new(&lanes[..run.len()])
-            })
-            .collect();
-        let sphere_blocks: Vec<SphereBlock> = sphere_runs
-            .par_iter()
-            .map(|run| {
-                let lanes: [_; BLOCK_SIZE] =
-                    std::array::from_fn(|i| match input(&order[run.start + i.min(run.len() - 1)]) {
-                        (Primitive::Sphere(s), id) => (*s, id),
-                        _ => unreachable!("a sphere leaf holds spheres"),
-                    });
-                SphereBlock::new(&lanes[..run.len()])
-            })
-            .collect();
+        let mut store = LeafStore::build(&mut leaves, &order, input);
+        let unbounded = store.push_records(unbounded_ids.iter().map(|&id| (&prims[id as usize], id)));
         let mut bvh = Self {
             pairs,
             wide: Vec::new(),
-            prims: leaf_prims,
-            triangle_blocks,
-            sphere_blocks,
-            bounded: order.len(),
-            others,
+            leaves: store,
             unbounded,
-            unbounded_ids,
+            bounded: order.len(),
             skipped,
         };
         let collapsed = wide::collapse(&bvh);
@@ -319,22 +202,9 @@ impl Bvh {
             let node = self.wide.as_ptr().wrapping_add(child.node());
             (node.cast::<u8>(), size_of::<wide::WideNode>())
         } else {
-            match child.contents() {
-                LeafRef::Triangles { blocks, .. } => (
-                    self.triangle_blocks
-                        .as_ptr()
-                        .wrapping_add(blocks.start)
-                        .cast::<u8>(),
-                    blocks.len() * size_of::<TriangleBlock>(),
-                ),
-                LeafRef::Spheres { blocks, .. } => (
-                    self.sphere_blocks
-                        .as_ptr()
-                        .wrapping_add(blocks.start)
-                        .cast::<u8>(),
-                    blocks.len() * size_of::<SphereBlock>(),
-                ),
-                LeafRef::Prims(_) => return,
+            match self.leaves.block_bytes(child.contents()) {
+                Some(blocks) => blocks,
+                None => return,
             }
         };
         for line in (0..bytes.min(PREFETCH_BYTES)).step_by(64) {
@@ -348,60 +218,11 @@ impl Bvh {
         self.bounded == 0
     }
 
-    /// Test `ray` against the primitives of `leaf`, recording hits in `hit`;
-    /// returns true if one was recorded. `any_hit` stops at the first.
+    /// The leaf of the primitives with no finite box (planes), which every
+    /// ray visits before the tree; None when there are none.
     #[inline(always)]
-    pub fn intersect_leaf<S: Counter>(
-        &self,
-        leaf: LeafRef,
-        ray: &Ray,
-        hit: &mut Hit,
-        any_hit: bool,
-        stats: &mut S,
-    ) -> bool {
-        match leaf {
-            LeafRef::Triangles { blocks, count } => {
-                intersect_blocks(&self.triangle_blocks[blocks], count, ray, hit, any_hit, stats)
-            }
-            LeafRef::Spheres { blocks, count } => {
-                intersect_blocks(&self.sphere_blocks[blocks], count, ray, hit, any_hit, stats)
-            }
-            LeafRef::Prims(range) => {
-                let mut recorded = false;
-                for prim in &self.prims[range] {
-                    stats.prim();
-                    recorded |= prim.intersect(&self.others, ray, hit);
-                    if recorded && any_hit {
-                        break;
-                    }
-                }
-                recorded
-            }
-        }
-    }
-
-    /// Call `f` with each primitive of `leaf` in turn until it returns false.
-    #[inline(always)]
-    pub fn for_each_leaf_prim(&self, leaf: LeafRef, mut f: impl FnMut(LeafItem<'_>) -> bool) {
-        // `all` stops at the first false.
-        match leaf {
-            LeafRef::Triangles { blocks, count } => block_lanes(&self.triangle_blocks[blocks], count)
-                .all(|(block, lane)| f(LeafItem::TriangleLane(block, lane))),
-            LeafRef::Spheres { blocks, count } => block_lanes(&self.sphere_blocks[blocks], count)
-                .all(|(block, lane)| f(LeafItem::SphereLane(block, lane))),
-            LeafRef::Prims(range) => self.prims[range].iter().all(|prim| f(LeafItem::Record(prim))),
-        };
-    }
-
-    /// The packet kernel of a leaf's primitive.
-    #[inline(always)]
-    pub fn intersect_leaf_prim_packet<F: SimdFloat>(
-        &self,
-        prim: LeafItem<'_>,
-        rays: &RayPacket<F>,
-        hits: &mut HitPacket<F>,
-    ) {
-        prim.intersect_packet(&self.others, rays, hits);
+    pub fn unbounded_leaf(&self) -> Option<LeafRef> {
+        (self.unbounded.count() > 0).then(|| self.unbounded.clone())
     }
 
     /// The (padded) box of the whole tree; empty when no primitive is bounded.
@@ -417,7 +238,7 @@ impl Bvh {
     pub fn info(&self) -> BvhInfo {
         let mut info = BvhInfo {
             primitives: self.bounded,
-            unbounded: self.unbounded.len(),
+            unbounded: self.unbounded.count(),
             skipped: self.skipped,
             nodes: 0,
             leaves: 0,
@@ -426,10 +247,7 @@ impl Bvh {
             sah_cost: 0.0,
             bytes: self.pairs.len() * size_of::<NodePair>()
                 + self.wide.len() * size_of::<wide::WideNode>()
-                + self.prims.len() * size_of::<LeafPrim>()
-                + self.triangle_blocks.len() * size_of::<TriangleBlock>()
-                + self.sphere_blocks.len() * size_of::<SphereBlock>()
-                + self.others.len() * size_of::<Primitive>(),
+                + self.leaves.bytes(),
         };
         if self.is_empty() {
             return info;

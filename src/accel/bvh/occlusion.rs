@@ -8,11 +8,10 @@ use crate::accel::bvh::leaf::LeafRef;
 
 use crate::accel::bvh::query::{PacketQuery, RayQuery, lane_bits};
 use crate::accel::bvh::ray_box::SlabRay;
-use crate::accel::bvh::traverse_packet::traverse_packet;
-use crate::accel::bvh::traverse_single::traverse;
+use crate::accel::bvh::traverse_packet::trace_packet;
+use crate::accel::bvh::traverse_single::{trace, traverse};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
-use crate::geometry::Intersect;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
@@ -34,28 +33,18 @@ impl RayQuery for AnyHit<'_> {
 
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        bvh.intersect_leaf(leaf, self.ray, &mut self.hit, true, stats)
+        bvh.leaves.intersect(leaf, self.ray, &mut self.hit, true, stats)
     }
 }
 
 /// Whether anything lies on `ray` within `[t_min, t_max]`.
 #[inline]
 pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
-    stats.rays(1);
     let mut query = AnyHit {
         ray,
         hit: Hit::none(ray),
     };
-    for (p, &id) in bvh.unbounded.iter().zip(&bvh.unbounded_ids) {
-        stats.prim();
-        if p.intersect(ray, id, &mut query.hit) {
-            return true;
-        }
-    }
-    if bvh.is_empty() {
-        return false;
-    }
-    traverse(bvh, ChildRef::ROOT, &SlabRay::new(ray), &mut query, stats)
+    trace(bvh, ray, &mut query, stats)
 }
 
 /// The any-hit query of a packet: occluded lanes leave the packet.
@@ -84,12 +73,12 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         self.rays.active = mask & self.pending;
-        bvh.for_each_leaf_prim(leaf, |prim| {
+        bvh.leaves.for_each(leaf, |prim| {
             if self.rays.active.none() {
                 return false;
             }
             stats.packet_prim(self.rays.active);
-            bvh.intersect_leaf_prim_packet(prim, &self.rays, &mut self.hits);
+            bvh.leaves.intersect_packet(prim, &self.rays, &mut self.hits);
             let hit = self.hits.hit_mask();
             self.pending = self.pending.and_not(hit);
             self.rays.active = self.rays.active.and_not(hit);
@@ -122,17 +111,6 @@ pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>,
         hits: HitPacket::none(rays),
         pending: rays.active,
     };
-    for (p, &id) in bvh.unbounded.iter().zip(&bvh.unbounded_ids) {
-        if query.pending.none() {
-            break;
-        }
-        query.rays.active = query.pending;
-        stats.packet_prim(query.pending);
-        p.intersect_packet(&query.rays, id, &mut query.hits);
-        query.pending = query.pending.and_not(query.hits.hit_mask());
-    }
-    if query.pending.any() {
-        traverse_packet(bvh, rays, &mut query, stats);
-    }
+    trace_packet(bvh, rays, &mut query, stats);
     rays.active.and_not(query.pending)
 }

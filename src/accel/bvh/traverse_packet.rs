@@ -32,7 +32,6 @@ use crate::accel::bvh::traverse_hybrid::traverse_hybrid;
 use crate::accel::bvh::traverse_single::{Nearest, traverse};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
-use crate::geometry::Intersect;
 use crate::packet::{HitPacket, RayPacket};
 use crate::simd::SimdFloat;
 
@@ -186,9 +185,9 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         self.rays.active = mask;
-        bvh.for_each_leaf_prim(leaf, |prim| {
+        bvh.leaves.for_each(leaf, |prim| {
             stats.packet_prim(mask);
-            bvh.intersect_leaf_prim_packet(prim, &self.rays, self.hits);
+            bvh.leaves.intersect_packet(prim, &self.rays, self.hits);
             true
         });
     }
@@ -208,6 +207,24 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     }
 }
 
+/// Run `query` for the packet `rays` over the whole BVH: the leaf of
+/// unbounded primitives first, on every active lane, then the tree for the
+/// lanes still live.
+#[inline]
+pub fn trace_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
+    bvh: &Bvh,
+    rays: &RayPacket<F>,
+    query: &mut Q,
+    stats: &mut S,
+) {
+    if let Some(leaf) = bvh.unbounded_leaf() {
+        query.leaf(bvh, leaf, rays.active, stats);
+    }
+    if query.live().any() {
+        traverse_packet(bvh, rays, query, stats);
+    }
+}
+
 /// The nearest hits of the active lanes of `rays`.
 #[inline]
 pub fn intersect_packet<F: SimdFloat, S: Counter>(
@@ -221,16 +238,12 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
     if rays.active.none() {
         return hits;
     }
-    for (p, &id) in bvh.unbounded.iter().zip(&bvh.unbounded_ids) {
-        stats.packet_prim(rays.active);
-        p.intersect_packet(rays, id, &mut hits);
-    }
     let mut query = NearestPacket {
         rays: *rays,
         live: rays.active,
         hits: &mut hits,
     };
-    traverse_packet(bvh, rays, &mut query, stats);
+    trace_packet(bvh, rays, &mut query, stats);
     hits
 }
 

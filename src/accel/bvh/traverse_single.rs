@@ -12,7 +12,6 @@ use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
 use crate::accel::bvh::wide::{ChildRef, WIDTH};
 use crate::accel::stats::Counter;
-use crate::geometry::Intersect;
 use crate::ray::{Hit, Ray};
 
 /// Traverse the subtree under `start` (whose box the ray is known to meet, or
@@ -105,30 +104,28 @@ impl RayQuery for Nearest<'_> {
 
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        bvh.intersect_leaf(leaf, self.ray, self.hit, false, stats);
+        bvh.leaves.intersect(leaf, self.ray, self.hit, false, stats);
         false
     }
 }
 
-/// The nearest hit of `ray`: unbounded primitives first, then the tree.
+/// Run `query` for `ray` over the whole BVH: the leaf of unbounded
+/// primitives first, then the tree; returns true if the query ended early.
+#[inline]
+pub fn trace<Q: RayQuery, S: Counter>(bvh: &Bvh, ray: &Ray, query: &mut Q, stats: &mut S) -> bool {
+    stats.rays(1);
+    if let Some(leaf) = bvh.unbounded_leaf()
+        && query.leaf(bvh, leaf, stats)
+    {
+        return true;
+    }
+    !bvh.is_empty() && traverse(bvh, ChildRef::ROOT, &SlabRay::new(ray), query, stats)
+}
+
+/// The nearest hit of `ray`.
 #[inline]
 pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
-    stats.rays(1);
     let mut hit = Hit::none(ray);
-    for (p, &id) in bvh.unbounded.iter().zip(&bvh.unbounded_ids) {
-        stats.prim();
-        p.intersect(ray, id, &mut hit);
-    }
-    if bvh.is_empty() {
-        return hit;
-    }
-    let slab = SlabRay::new(ray);
-    traverse(
-        bvh,
-        ChildRef::ROOT,
-        &slab,
-        &mut Nearest { ray, hit: &mut hit },
-        stats,
-    );
+    trace(bvh, ray, &mut Nearest { ray, hit: &mut hit }, stats);
     hit
 }

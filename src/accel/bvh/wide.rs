@@ -363,7 +363,7 @@ mod tests {
                         stack.push(slot.node());
                         continue;
                     }
-                    bvh.for_each_leaf_prim(slot.contents(), |p| {
+                    bvh.leaves.for_each(slot.contents(), |p| {
                         covered[p.id() as usize] += 1;
                         true
                     });
