@@ -144,8 +144,7 @@ impl RaySource<'_> {
             .map(|&kind| match kind {
                 RayKind::Primary => RaySet::from_blocks(kind, blocks.iter().copied()),
                 RayKind::Random => {
-                    let rays =
-                        crate::scene::generate::random::random_rays(self.bounds, self.random, self.seed);
+                    let rays = crate::compare::ray_sets::uniform_rays(self.bounds, self.random, self.seed);
                     RaySet {
                         kind,
                         packets: rays.chunks(8).map(RayPacket8::from_rays).collect(),

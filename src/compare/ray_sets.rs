@@ -5,7 +5,9 @@
 //! - *random*: seeded rays of two kinds, alternating: rays that start at a
 //!   uniform point of the scene's box (enlarged by 10%) in a uniform direction,
 //!   which start inside objects, graze them and leave the scene; and rays from a
-//!   sphere around the box aimed at a uniform point in it, which hit often.
+//!   sphere around the box aimed at a uniform point in it, which hit often;
+//! - *uniform*: the `random` ray kind of `bench traversal` and `bench scene`
+//!   (Aila and Laine 2009): a uniform point of the box, a uniform direction.
 
 use glam::Vec3;
 
@@ -70,6 +72,15 @@ pub fn random_rays(bounds: Aabb, n: usize, seed: u64) -> Vec<Ray> {
                 Ray::unbounded(origin, (aim - origin).normalize())
             }
         })
+        .collect()
+}
+
+/// `n` seeded incoherent rays: origins uniform in `bounds`, directions
+/// uniform on the sphere.
+pub fn uniform_rays(bounds: Aabb, n: usize, seed: u64) -> Vec<Ray> {
+    let mut rng = Rng::new(seed);
+    (0..n)
+        .map(|_| Ray::unbounded(rng.point_in(bounds.min, bounds.max), rng.unit_vector()))
         .collect()
 }
 

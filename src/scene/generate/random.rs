@@ -11,7 +11,6 @@ use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::geometry::plane::Plane;
 use crate::geometry::{Polygon, Primitive, Sphere, Transformed, Triangle};
-use crate::ray::Ray;
 use crate::rng::Rng;
 use crate::scene::CameraSpec;
 
@@ -209,14 +208,6 @@ pub fn framing_camera(bounds: Aabb, width: u32, height: u32) -> Camera {
     CameraSpec::framing(bounds, width, height)
         .camera()
         .expect("a framing camera is valid")
-}
-
-/// `n` incoherent rays: origins uniform in `bounds`, directions uniform on the sphere.
-pub fn random_rays(bounds: Aabb, n: usize, seed: u64) -> Vec<Ray> {
-    let mut rng = Rng::new(seed);
-    (0..n)
-        .map(|_| Ray::unbounded(rng.point_in(bounds.min, bounds.max), rng.unit_vector()))
-        .collect()
 }
 
 #[cfg(test)]
