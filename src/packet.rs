@@ -120,14 +120,23 @@ impl<F: SimdFloat> HitPacket<F> {
     /// current records: the packet form of [`Hit::accepts`], restricted to active lanes.
     #[inline(always)]
     pub fn accepts(&self, rays: &RayPacket<F>, t: F, prim: u32) -> F {
-        let in_range = t.ge(rays.t_min) & t.lt(F::splat(f32::INFINITY));
+        self.accepts_among(rays.active, rays, t, prim)
+    }
+
+    /// [`accepts`](Self::accepts) restricted to the lanes of `lanes`, a mask
+    /// within the active lanes (a kernel's own early test), which saves the
+    /// kernel a second `and` with them.
+    #[inline(always)]
+    pub fn accepts_among(&self, lanes: F, rays: &RayPacket<F>, t: F, prim: u32) -> F {
+        // `t < hit.t` implies `t < ∞`, so only a tie needs that check.
         let mut closer = t.lt(self.t);
         let tie = t.eq(self.t);
         // Equal t is rare outside shared edges: only then compare primitive indices.
         if tie.any() {
-            closer = closer | (tie & F::U32::splat(prim).lt(self.prim));
+            let finite = t.lt(F::splat(f32::INFINITY));
+            closer = closer | (tie & finite & F::U32::splat(prim).lt(self.prim));
         }
-        rays.active & in_range & closer
+        lanes & t.ge(rays.t_min) & closer
     }
 
     /// Record hits in the lanes of `mask`.

@@ -131,9 +131,12 @@ fn intersect_packet_lane<F: SimdFloat, S: SphereLane>(
     prim: u32,
     hits: &mut HitPacket<F>,
 ) {
-    let oc = rays.origin - V3::splat(sphere.center(i));
-    let b = -oc.dot(rays.dir);
-    let l = oc + rays.dir.scale(b);
+    // `c − o` rather than the scalar kernel's `o − c`: its dot with the
+    // direction is exactly the scalar `−⟨o − c, d⟩` (IEEE negation commutes
+    // with every rounding here), one negation fewer, and `l` is the same sum.
+    let co = V3::splat(sphere.center(i)) - rays.origin;
+    let b = co.dot(rays.dir);
+    let l = rays.dir.scale(b) - co;
     let quarter_disc = F::splat(sphere.radius_squared(i)) - l.dot(l);
     // Most rays of a packet miss most spheres: skip the roots when none crosses.
     let crosses = rays.active & quarter_disc.ge(F::splat(0.0));
@@ -143,7 +146,7 @@ fn intersect_packet_lane<F: SimdFloat, S: SphereLane>(
     let s = quarter_disc.sqrt();
     let near = if sphere.inside_only(i) { b + s } else { b - s };
     let t = near.ge(rays.t_min).select(near, b + s);
-    let mask = hits.accepts(rays, t, prim) & crosses;
+    let mask = hits.accepts_among(crosses, rays, t, prim);
     hits.record_without_uv(mask, t, prim);
 }
 
