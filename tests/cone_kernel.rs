@@ -515,3 +515,47 @@ fn long_cylinders_keep_their_far_end() {
     }
     assert!(hits > 2_000, "{hits} hits: too few for a meaningful test");
 }
+
+/// The rims of cones whose axis lies within 10⁻³…10⁻⁷ of a world axis stay
+/// inside the cone's box: for such an axis `1 − w_i²` cancels in f32, and the
+/// box once lost the rim's tilt, so a grazing ray's hit on the rim of a
+/// 1560-long branch (a fuzzer's scene, `tests/data/fuzz/pipeline_tilted_cone_rim.nff`)
+/// lay outside it and single rays culled it.
+#[test]
+fn nearly_axis_aligned_rims_lie_in_the_box() {
+    let mut rng = Rng::new(83);
+    for k in 0..3 {
+        for tilt in [1e-3f64, 1e-4, 1e-5, 1e-6, 1e-7] {
+            for _ in 0..20 {
+                let mut axis = DVec3::ZERO;
+                axis[k] = 1.0;
+                let side = rng.unit_vector().as_dvec3();
+                let axis = (axis + tilt * (side - side.dot(axis) * axis).normalize()).normalize();
+                let base = rng.unit_vector().as_dvec3();
+                let length = rng.range(1.0, 2000.0) as f64;
+                let (r0, r1) = (rng.range(0.01, 0.2) as f64, rng.range(0.0, 0.2) as f64);
+                let apex = base + length * axis;
+                let cone = Cone::new(base.as_vec3(), r0 as f32, apex.as_vec3(), r1 as f32).unwrap();
+                let b = cone.bounds();
+                // The rims in f64, about the f32 cone's own axis.
+                let w = cone.axis().as_dvec3();
+                let u = w.any_orthonormal_vector();
+                let v = w.cross(u);
+                for step in 0..64 {
+                    let a = step as f64 * std::f64::consts::TAU / 64.0;
+                    let around = a.cos() * u + a.sin() * v;
+                    for (c, r) in [(base, r0), (apex, r1)] {
+                        let p = c + r * around;
+                        for i in 0..3 {
+                            let slack = 1e-6 * (1.0 + p[i].abs());
+                            assert!(
+                                p[i] >= b.min[i] as f64 - slack && p[i] <= b.max[i] as f64 + slack,
+                                "axis {k}, tilt {tilt}: rim point {p:?} outside {b:?} on axis {i}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -145,7 +145,7 @@ fn mirror_glass_scene_has_mirrors_glass_and_lights_in_view() {
 fn fuzz_findings_load_or_fail_cleanly() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
     // File, and the primitives it loads (Ok) or what its error says (Err).
-    let findings: [(&str, Result<usize, &str>); 6] = [
+    let findings: [(&str, Result<usize, &str>); 7] = [
         // A cylinder 958351 long and 0.07 wide: measured from its base, f32
         // kept its far end to 0.06 and its kernel took a hit 0.03 past it,
         // outside its box, so single rays and packets disagreed (fuzz target
@@ -156,6 +156,11 @@ fn fuzz_findings_load_or_fail_cleanly() {
         // hit lay outside its box and single rays culled it (fuzz target
         // pipeline); tests/bvh_agrees_with_brute_force.rs traces it.
         ("pipeline_needle_triangle.nff", Ok(20)),
+        // A tree's branch cone 1560 long whose axis is 1.9e-4 off z: its box
+        // had lost the rims' tilt (1 − w_z² cancelled), so a grazing ray's hit
+        // on the rim lay outside it (fuzz target pipeline);
+        // tests/cone_kernel.rs checks such rims against the box.
+        ("pipeline_tilted_cone_rim.nff", Ok(19)),
         // A 10-vertex polygon whose vertices are not coplanar: a hit on its
         // plane fell outside its vertices' box, where single rays culled it
         // (fuzz target pipeline); tests/bvh_agrees_with_brute_force.rs traces it.

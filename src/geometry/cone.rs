@@ -158,9 +158,15 @@ impl Cone {
     }
 
     /// Bounding box: the union of the boxes of the two rim circles. A circle of
-    /// radius r around axis w reaches `r·√(1 − w_i²)` along world axis i.
+    /// radius r around axis w reaches `r·√(1 − w_i²)` along world axis i,
+    /// computed as `r·√(w_j² + w_k²)`: for an axis within 10⁻⁴ of world axis i,
+    /// `1 − w_i²` cancels to 0 in f32 and the box lost the rim's tilt, so a
+    /// grazing ray's hit on the rim fell outside it (a fuzzer's finding). The
+    /// larger of the two forms is kept, for an axis not exactly of unit length.
     pub fn bounds(&self) -> Aabb {
-        let s = (Vec3::ONE - self.w * self.w).max(Vec3::ZERO);
+        let w2 = self.w * self.w;
+        let others = Vec3::new(w2.y + w2.z, w2.z + w2.x, w2.x + w2.y);
+        let s = (Vec3::ONE - w2).max(others).max(Vec3::ZERO);
         let reach = Vec3::new(s.x.sqrt(), s.y.sqrt(), s.z.sqrt());
         let rim = |c: Vec3, r: f32| Aabb::new(c - r * reach, c + r * reach);
         rim(self.base, self.base_radius).union(rim(self.apex, self.apex_radius))
