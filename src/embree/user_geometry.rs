@@ -140,6 +140,63 @@ unsafe extern "C" fn bounds(args: *const sys::RTCBoundsFunctionArguments) {
     }
 }
 
+/// What [`for_valid_lanes`] reads of an N-lane callback's arguments: the
+/// registered [`UserPrims`], the primitive, the `valid` flags, N, the ray record.
+type LaneFields = (*mut c_void, u32, *const i32, u32, *mut f32);
+
+/// The N-lane callbacks' argument records.
+trait LaneArgs {
+    fn fields(&self) -> LaneFields;
+}
+
+impl LaneArgs for sys::RTCIntersectFunctionNArguments {
+    fn fields(&self) -> LaneFields {
+        (
+            self.geometryUserPtr,
+            self.primID,
+            self.valid,
+            self.N,
+            self.rayhit as *mut f32,
+        )
+    }
+}
+
+impl LaneArgs for sys::RTCOccludedFunctionNArguments {
+    fn fields(&self) -> LaneFields {
+        (
+            self.geometryUserPtr,
+            self.primID,
+            self.valid,
+            self.N,
+            self.ray as *mut f32,
+        )
+    }
+}
+
+/// Call `f` with the registered primitives, the callback's primitive, and
+/// each valid lane of the N-lane ray record with its ray: the lanes Embree asks
+/// a callback about.
+///
+/// # Safety
+/// `args` are the arguments Embree passed to a callback of the [`UserPrims`]
+/// registered here: `valid` holds N flags and the record has N lanes.
+#[inline(always)]
+unsafe fn for_valid_lanes(
+    args: &impl LaneArgs,
+    mut f: impl FnMut(&UserPrims, &(u32, Primitive), usize, Ray),
+) {
+    let (user, prim_id, valid, n, base) = args.fields();
+    // SAFETY: the caller's guarantee.
+    unsafe {
+        let user = &*(user as *const UserPrims);
+        let entry = &user.prims[prim_id as usize];
+        let n = n as usize;
+        for i in (0..n).filter(|&i| *valid.add(i) != 0) {
+            f(user, entry, i, ray(base, n, i));
+        }
+    }
+}
+
 /// Intersect callback: raypack's scalar kernel on every valid lane; a closer
 /// hit overwrites `tfar` and the hit fields.
 unsafe extern "C" fn intersect(args: *const sys::RTCIntersectFunctionNArguments) {
@@ -147,18 +204,11 @@ unsafe extern "C" fn intersect(args: *const sys::RTCIntersectFunctionNArguments)
     // the `UserPrims` registered above.
     unsafe {
         let args = &*args;
-        let user = &*(args.geometryUserPtr as *const UserPrims);
-        let (index, prim) = &user.prims[args.primID as usize];
-        let n = args.N as usize;
-        let base = args.rayhit as *mut f32;
-        for i in 0..n {
-            if *args.valid.add(i) == 0 {
-                continue;
-            }
-            let ray = ray(base, n, i);
+        let (n, base) = (args.N as usize, args.rayhit as *mut f32);
+        for_valid_lanes(args, |user, (index, prim), i, ray| {
             let mut hit = Hit::none(&ray);
             if !prim.intersect(&ray, *index, &mut hit) {
-                continue;
+                return;
             }
             let ng = prim.geometric_normal(&ray, &hit);
             set(base, field::TFAR, n, i, hit.t.to_bits());
@@ -173,7 +223,7 @@ unsafe extern "C" fn intersect(args: *const sys::RTCIntersectFunctionNArguments)
             if user.inst_prim_id {
                 set(base, field::INST_PRIM_ID, n, i, INVALID_ID);
             }
-        }
+        });
     }
 }
 
@@ -182,18 +232,11 @@ unsafe extern "C" fn occluded(args: *const sys::RTCOccludedFunctionNArguments) {
     // SAFETY: as for `intersect`, with a ray record of N lanes.
     unsafe {
         let args = &*args;
-        let user = &*(args.geometryUserPtr as *const UserPrims);
-        let (index, prim) = &user.prims[args.primID as usize];
-        let n = args.N as usize;
-        let base = args.ray as *mut f32;
-        for i in 0..n {
-            if *args.valid.add(i) == 0 {
-                continue;
-            }
-            let ray = ray(base, n, i);
+        let (n, base) = (args.N as usize, args.ray as *mut f32);
+        for_valid_lanes(args, |_, (index, prim), i, ray| {
             if prim.intersect(&ray, *index, &mut Hit::none(&ray)) {
                 set(base, field::TFAR, n, i, f32::NEG_INFINITY.to_bits());
             }
-        }
+        });
     }
 }

@@ -92,16 +92,6 @@ pub trait BlockIntersect {
     /// over the lanes in any order would; true if any lane's hit was recorded.
     fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool;
 
-    /// The packet kernel of lane `i`'s shape, recording hits as primitive
-    /// `prim` (an unused lane is never hit).
-    fn intersect_packet_as<G: SimdFloat>(
-        &self,
-        i: usize,
-        rays: &RayPacket<G>,
-        prim: u32,
-        hits: &mut HitPacket<G>,
-    );
-
     /// Primitive indices of the lanes.
     fn ids(&self) -> &[u32];
 
@@ -110,34 +100,18 @@ pub trait BlockIntersect {
     fn id(&self, i: usize) -> u32 {
         self.ids()[i]
     }
-
-    /// The packet kernel of lane `i`'s shape, recording its own primitive index.
-    #[inline(always)]
-    fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
-        self.intersect_packet_as(i, rays, self.id(i), hits);
-    }
 }
 
-/// The [`BlockIntersect`] methods that every block spells alike: `ids`, its
-/// row of primitive indices, and `intersect_packet_as`, the packet kernel of
-/// one lane, which is the shape module's own `intersect_packet_lane` reading
-/// the lane in place. Invoked inside each block's `impl BlockIntersect`.
+/// The packet kernel of one lane of a block, which every block spells alike:
+/// the shape module's own `intersect_packet_lane` reading the lane in place
+/// and recording its primitive index. Invoked inside each block's inherent
+/// `impl` (an unused lane is never hit).
 macro_rules! block_lanes {
     () => {
+        /// The packet kernel of lane `i`'s shape, recording its primitive index.
         #[inline(always)]
-        fn ids(&self) -> &[u32] {
-            self.ids.as_ref()
-        }
-
-        #[inline(always)]
-        fn intersect_packet_as<G: SimdFloat>(
-            &self,
-            i: usize,
-            rays: &RayPacket<G>,
-            prim: u32,
-            hits: &mut HitPacket<G>,
-        ) {
-            intersect_packet_lane(self, i, rays, prim, hits);
+        pub fn intersect_packet<G: SimdFloat>(&self, i: usize, rays: &RayPacket<G>, hits: &mut HitPacket<G>) {
+            intersect_packet_lane(self, i, rays, self.id(i), hits);
         }
     };
 }

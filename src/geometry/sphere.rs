@@ -170,6 +170,8 @@ pub struct Spheres<F: SimdFloat> {
 }
 
 impl<F: SimdFloat> Spheres<F> {
+    block_lanes!();
+
     /// Lanes `0..spheres.len()` hold `spheres` (shape and primitive index), the rest nothing.
     ///
     /// # Panics
@@ -186,7 +188,10 @@ impl<F: SimdFloat> Spheres<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for Spheres<F> {
-    block_lanes!();
+    #[inline(always)]
+    fn ids(&self) -> &[u32] {
+        self.ids.as_ref()
+    }
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
     /// lane, so each lane's t is bit for bit the scalar one): records in `hit`

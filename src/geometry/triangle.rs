@@ -349,6 +349,8 @@ pub struct ProjectedTriangles<F: SimdFloat> {
 }
 
 impl<F: SimdFloat> ProjectedTriangles<F> {
+    block_lanes!();
+
     /// Lanes `0..tris.len()` hold `tris` (constants and primitive index), the rest nothing.
     ///
     /// # Panics
@@ -364,7 +366,10 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
-    block_lanes!();
+    #[inline(always)]
+    fn ids(&self) -> &[u32] {
+        self.ids.as_ref()
+    }
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
     /// lane, so each lane's t, β, γ are bit for bit the scalar ones): records

@@ -2,13 +2,16 @@
 //! 8-wide packet) with a lane mask. Counting and kernels both speak of batch
 //! lanes, so the batch is defined below both.
 
-use crate::ray::Ray;
+use crate::ray::{Hit, Ray};
 
 /// Rays per batch: one 4×2 or 8×1 pixel block, one 8-wide packet.
 pub const BATCH: usize = 8;
 
 /// A batch of rays; lane `i` takes part where bit `i` of the mask is set.
 pub type Rays = [Ray; BATCH];
+
+/// A batch's hit records, lane by lane.
+pub type Hits = [Hit; BATCH];
 
 /// The lane mask with every lane of a batch set.
 pub const ALL_LANES: u32 = (1 << BATCH) - 1;

@@ -18,19 +18,14 @@ use std::marker::PhantomData;
 use crate::accel::Accel;
 use crate::packet::RayPacket;
 use crate::ray::Hit;
-use crate::render::batch::{BATCH, Rays};
+use crate::render::batch::{BATCH, Hits, Rays};
 use crate::render::counting::TileCounter;
 use crate::simd::{SimdFloat, SimdU32};
 
 /// Nearest-hit and occlusion queries on batches of rays.
 pub trait TraceKernel: Send + Sync + 'static {
     /// Nearest hits of the lanes in `active`; other lanes get [`Hit::none`].
-    fn intersect<A: Accel, C: TileCounter>(
-        accel: &A,
-        rays: &Rays,
-        active: u32,
-        counter: &mut C,
-    ) -> [Hit; BATCH];
+    fn intersect<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> Hits;
 
     /// The mask of lanes in `active` whose ray is blocked in `[t_min, t_max]`.
     fn occluded<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> u32;
@@ -45,12 +40,7 @@ pub struct ScalarKernel;
 
 impl TraceKernel for ScalarKernel {
     #[inline]
-    fn intersect<A: Accel, C: TileCounter>(
-        accel: &A,
-        rays: &Rays,
-        active: u32,
-        counter: &mut C,
-    ) -> [Hit; BATCH] {
+    fn intersect<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> Hits {
         std::array::from_fn(|i| {
             if active >> i & 1 == 1 {
                 counter.batch_lanes(i);
@@ -88,13 +78,8 @@ pub type Packet8Kernel = PacketKernel<wide::f32x8>;
 
 impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
     #[inline]
-    fn intersect<A: Accel, C: TileCounter>(
-        accel: &A,
-        rays: &Rays,
-        active: u32,
-        counter: &mut C,
-    ) -> [Hit; BATCH] {
-        let mut out: [Hit; BATCH] = std::array::from_fn(|i| Hit::none(&rays[i]));
+    fn intersect<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> Hits {
+        let mut out: Hits = std::array::from_fn(|i| Hit::none(&rays[i]));
         for (c, chunk) in rays.chunks(F::LANES).enumerate() {
             let first = c * F::LANES;
             let mask = active >> first & ((1u32 << chunk.len()) - 1);

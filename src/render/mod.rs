@@ -138,14 +138,7 @@ impl<A: Accel, T: Fn() + Sync> Job<'_, A, T> {
 
     /// Render through kernel `K`, counting with `C`.
     fn traced<K: TraceKernel, C: TileCounter>(self) -> Render {
-        let Job {
-            scene,
-            accel,
-            camera,
-            settings,
-            pool,
-            on_tile,
-        } = self;
+        let (scene, accel, camera, settings) = (self.scene, self.accel, self.camera, self.settings);
         let grid = Grid::new(*camera, settings.sampling);
         let tracer = Tracer {
             scene,
@@ -157,10 +150,10 @@ impl<A: Accel, T: Fn() + Sync> Job<'_, A, T> {
         let tiles = tiles::tiles(grid.width, grid.height, tile_size);
         let start = Instant::now();
         let done = tiles::run(
-            pool,
+            self.pool,
             &tiles,
             |tile| trace_tile::<K, C, A>(&tracer, &grid, tile, settings),
-            on_tile,
+            self.on_tile,
         );
         let trace_seconds = start.elapsed().as_secs_f64();
 

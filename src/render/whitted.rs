@@ -21,8 +21,8 @@ use glam::Vec3;
 
 use crate::accel::Accel;
 use crate::bounds::Aabb;
-use crate::ray::{Hit, Ray};
-use crate::render::batch::{BATCH, Rays};
+use crate::ray::Ray;
+use crate::render::batch::{BATCH, Hits, Rays};
 use crate::render::counting::{Tally, TileCounter};
 use crate::render::kernel::TraceKernel;
 use crate::render::optics::{self, Secondary};
@@ -97,7 +97,7 @@ impl<A: Accel> Tracer<'_, A> {
         &self,
         rays: &Rays,
         active: u32,
-        hits: &[Hit; BATCH],
+        hits: &Hits,
         depth: u32,
         tally: &mut Tally<C>,
     ) -> [Vec3; BATCH] {

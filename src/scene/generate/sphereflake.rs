@@ -58,7 +58,12 @@ pub fn write<W: Write>(size: u32, out: &mut NffWriter<W>) -> io::Result<()> {
         transmittance: 0.0,
         ior: 1.0,
     })?;
-    flake(out, size, DVec3::ZERO, 0.5, DVec3::Z, &child_directions())
+    let root = Ball {
+        center: DVec3::ZERO,
+        radius: 0.5,
+        axis: DVec3::Z,
+    };
+    flake(out, size, root, &child_directions())
 }
 
 /// The 9 child directions around +z. Three neighbouring cuboctahedron vertices
@@ -75,32 +80,36 @@ fn child_directions() -> [DVec3; 9] {
     std::array::from_fn(|i| DMat3::from_rotation_z((i / 3) as f64 * TAU / 3.0) * (tilt * trio[i % 3]))
 }
 
-/// Write a sphere and, `depth` levels down, its children around `axis`.
-fn flake<W: Write>(
-    out: &mut NffWriter<W>,
-    depth: u32,
+/// A sphere of the flake and the axis its children are placed around.
+#[derive(Clone, Copy, Debug)]
+struct Ball {
     center: DVec3,
     radius: f64,
     axis: DVec3,
+}
+
+/// Write `ball` and, `depth` levels down, its children around its axis.
+fn flake<W: Write>(
+    out: &mut NffWriter<W>,
+    depth: u32,
+    ball: Ball,
     directions: &[DVec3; 9],
 ) -> io::Result<()> {
-    out.sphere(center, radius)?;
+    out.sphere(ball.center, ball.radius)?;
     if depth == 0 {
         return Ok(());
     }
-    let to_axis = rotation_from_z(axis);
+    let to_axis = rotation_from_z(ball.axis);
     // A child of radius r/3 touches its parent: centres r + r/3 apart.
-    let distance = radius * (1.0 + 1.0 / 3.0);
+    let distance = ball.radius * (1.0 + 1.0 / 3.0);
     for d in directions {
-        let dir = to_axis * *d;
-        flake(
-            out,
-            depth - 1,
-            center + distance * dir,
-            radius / 3.0,
-            dir,
-            directions,
-        )?;
+        let axis = to_axis * *d;
+        let child = Ball {
+            center: ball.center + distance * axis,
+            radius: ball.radius / 3.0,
+            axis,
+        };
+        flake(out, depth - 1, child, directions)?;
     }
     Ok(())
 }
