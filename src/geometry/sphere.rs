@@ -131,12 +131,12 @@ fn intersect_packet_lane<F: SimdFloat, S: SphereLane>(
     prim: u32,
     hits: &mut HitPacket<F>,
 ) {
-    // `c − o` rather than the scalar kernel's `o − c`: its dot with the
-    // direction is exactly the scalar `−⟨o − c, d⟩` (IEEE negation commutes
-    // with every rounding here), one negation fewer, and `l` is the same sum.
-    let co = V3::splat(sphere.center(i)) - rays.origin;
-    let b = co.dot(rays.dir);
-    let l = rays.dir.scale(b) - co;
+    // The scalar kernel's steps. (`c − o` would save the negation, but gives
+    // +0 where the scalar kernel's −⟨o − c, d⟩ gives −0: a ray from the centre
+    // of a point sphere.)
+    let oc = rays.origin - V3::splat(sphere.center(i));
+    let b = -oc.dot(rays.dir);
+    let l = oc + rays.dir.scale(b);
     let quarter_disc = F::splat(sphere.radius_squared(i)) - l.dot(l);
     // Most rays of a packet miss most spheres: skip the roots when none crosses.
     let crosses = rays.active & quarter_disc.ge(F::splat(0.0));
