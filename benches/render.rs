@@ -3,7 +3,9 @@
 //! count, and a Whitted frame per kernel, on scenes built in code.
 //! `cargo bench --bench render -- primary` runs one group.
 
-#[path = "../tests/render_support/mod.rs"]
+// The test crates' scenes built in code (this bench uses some of them).
+#[path = "../tests/support/render.rs"]
+#[allow(dead_code)]
 mod render_support;
 
 use std::time::Duration;

@@ -4,12 +4,12 @@
 //! 95% of the figures; a variant slowed through the bench timing hook
 //! (`RAYPACK_TEST_SLOWDOWN`) shows as slower.
 
-mod cli_support;
+mod support;
 
 use std::path::Path;
 use std::process::{Command, Output};
 
-use cli_support::{scratch, stderr};
+use support::cli::{scratch, stderr};
 
 /// `raypack` with `args`, its baselines in `dir`, and `env` set.
 fn raypack_in(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {

@@ -3,9 +3,9 @@
 //! targets are quoted from, all computed from the runs of the same run; and
 //! the environment the result was measured on.
 
-mod cli_support;
+mod support;
 
-use cli_support::{raypack, stderr};
+use support::cli::{raypack, stderr};
 
 #[test]
 fn rows_carry_consistent_ratios() {

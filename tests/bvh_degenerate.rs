@@ -3,7 +3,7 @@
 //! scenes, non-finite rays. Each must build, never panic, and answer exactly as
 //! brute force does.
 
-mod bvh_support;
+mod support;
 
 use glam::{Mat4, Vec3};
 use raypack::accel::bvh::{BuildOptions, MAX_DEPTH};
@@ -27,8 +27,8 @@ fn tri(a: Vec3, b: Vec3, c: Vec3) -> Primitive {
 /// Random rays around `bounds`, checked against brute force; returns the hit count.
 fn check(name: &str, prims: &[Primitive], n: usize) -> usize {
     let bvh = Bvh::new(prims);
-    let rays = bvh_support::random_rays(bvh_support::scene_bounds(prims), n, 7);
-    bvh_support::check_rays(prims, &bvh, &rays, name)
+    let rays = support::bvh::random_rays(support::bvh::scene_bounds(prims), n, 7);
+    support::bvh::check_rays(prims, &bvh, &rays, name)
 }
 
 #[test]
@@ -101,12 +101,12 @@ fn flat_boxes_and_exact_vertex_edge_hits() {
             rays.push(Ray::unbounded(Vec3::new(-1.0, o.y, 0.0), Vec3::X));
         }
     }
-    let hits = bvh_support::check_rays(&prims, &bvh, &rays, "flat grid");
+    let hits = support::bvh::check_rays(&prims, &bvh, &rays, "flat grid");
     assert!(hits >= (2 * n - 1) * (2 * n - 1), "{hits}");
-    bvh_support::check_rays(
+    support::bvh::check_rays(
         &prims,
         &bvh,
-        &bvh_support::random_rays(bvh_support::scene_bounds(&prims), 20_000, 3),
+        &support::bvh::random_rays(support::bvh::scene_bounds(&prims), 20_000, 3),
         "grid",
     );
 }
@@ -186,13 +186,13 @@ fn unbalanced_scene_stays_within_the_stack() {
             ));
         }
     }
-    assert!(bvh_support::check_rays(&prims, &bvh, &rays, "unbalanced") > rays.len() / 2);
+    assert!(support::bvh::check_rays(&prims, &bvh, &rays, "unbalanced") > rays.len() / 2);
 }
 
 #[test]
 fn every_build_option_gives_the_same_answers() {
     let prims = random::random_mixed(400, 12);
-    let rays = bvh_support::random_rays(bvh_support::scene_bounds(&prims), 10_000, 5);
+    let rays = support::bvh::random_rays(support::bvh::scene_bounds(&prims), 10_000, 5);
     for (bins, max_leaf_size) in [(8, 1), (32, 16), (2, 4), (16, 64)] {
         let options = BuildOptions {
             bins,
@@ -201,7 +201,7 @@ fn every_build_option_gives_the_same_answers() {
         };
         let bvh = Bvh::with_options(&prims, &options);
         assert!(bvh.info().max_leaf_size <= max_leaf_size.max(1));
-        bvh_support::check_rays(&prims, &bvh, &rays, &format!("bins {bins} leaf {max_leaf_size}"));
+        support::bvh::check_rays(&prims, &bvh, &rays, &format!("bins {bins} leaf {max_leaf_size}"));
     }
 }
 
@@ -225,8 +225,8 @@ fn non_finite_and_degenerate_rays_answer_like_brute_force() {
     ];
     for ray in &rays {
         assert_eq!(
-            bvh_support::key(&bvh.intersect(ray)),
-            bvh_support::key(&brute.intersect(ray)),
+            support::bvh::key(&bvh.intersect(ray)),
+            support::bvh::key(&brute.intersect(ray)),
             "{ray:?}"
         );
         assert_eq!(bvh.occluded(ray), brute.occluded(ray), "{ray:?}");
@@ -236,8 +236,8 @@ fn non_finite_and_degenerate_rays_answer_like_brute_force() {
         let (hits, bits) = (bvh.intersect_packet(&p), bvh.occluded_packet(&p).bitmask());
         for (lane, ray) in chunk.iter().enumerate() {
             assert_eq!(
-                bvh_support::key(&hits.hit(lane)),
-                bvh_support::key(&brute.intersect(ray)),
+                support::bvh::key(&hits.hit(lane)),
+                support::bvh::key(&brute.intersect(ray)),
                 "{ray:?}"
             );
             assert_eq!(bits >> lane & 1 == 1, brute.occluded(ray), "{ray:?}");

@@ -1,7 +1,7 @@
 //! Traversal statistics and the `--accel` choice: counted queries return exactly
 //! what plain queries return, and the counts mean what they say.
 
-mod bvh_support;
+mod support;
 
 use clap::ValueEnum;
 use raypack::accel::{Accel, AccelKind, AnyAccel, BruteForce, Bvh, TraversalStats};
@@ -12,16 +12,16 @@ use raypack::simd::SimdFloat;
 #[test]
 fn counted_queries_return_the_plain_answers() {
     let prims = random::random_mixed(2000, 21);
-    let bounds = bvh_support::scene_bounds(&prims);
-    let rays = bvh_support::random_rays(bounds, 4000, 22);
+    let bounds = support::bvh::scene_bounds(&prims);
+    let rays = support::bvh::random_rays(bounds, 4000, 22);
     let bvh = Bvh::new(&prims);
     let brute = BruteForce::new(&prims);
     let (mut s_bvh, mut s_brute) = (TraversalStats::default(), TraversalStats::default());
     for ray in &rays {
-        let plain = bvh_support::key(&bvh.intersect(ray));
-        assert_eq!(bvh_support::key(&bvh.intersect_counted(ray, &mut s_bvh)), plain);
+        let plain = support::bvh::key(&bvh.intersect(ray));
+        assert_eq!(support::bvh::key(&bvh.intersect_counted(ray, &mut s_bvh)), plain);
         assert_eq!(
-            bvh_support::key(&brute.intersect_counted(ray, &mut s_brute)),
+            support::bvh::key(&brute.intersect_counted(ray, &mut s_brute)),
             plain
         );
         assert_eq!(
@@ -40,12 +40,12 @@ fn counted_queries_return_the_plain_answers() {
         let brute_counted = brute.intersect_packet_counted(&p, &mut TraversalStats::default());
         for lane in 0..chunk.len() {
             assert_eq!(
-                bvh_support::key(&counted.hit(lane)),
-                bvh_support::key(&plain.hit(lane))
+                support::bvh::key(&counted.hit(lane)),
+                support::bvh::key(&plain.hit(lane))
             );
             assert_eq!(
-                bvh_support::key(&brute_counted.hit(lane)),
-                bvh_support::key(&plain.hit(lane))
+                support::bvh::key(&brute_counted.hit(lane)),
+                support::bvh::key(&plain.hit(lane))
             );
         }
         let occluded = bvh.occluded_packet(&p).bitmask();
@@ -72,13 +72,13 @@ fn counted_queries_return_the_plain_answers() {
 fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
     let prims = random::bumpy_sphere(20_000, 23);
     let bvh = Bvh::new(&prims);
-    let bounds = bvh_support::scene_bounds(&prims);
+    let bounds = support::bvh::scene_bounds(&prims);
     let mut primary = TraversalStats::default();
-    for (_, packet) in bvh_support::primary_packets(bounds, 128, 128) {
+    for (_, packet) in support::bvh::primary_packets(bounds, 128, 128) {
         bvh.intersect_packet_counted(&packet, &mut primary);
     }
     let mut random = TraversalStats::default();
-    for chunk in bvh_support::random_rays(bounds, 128 * 128, 24).chunks(8) {
+    for chunk in support::bvh::random_rays(bounds, 128 * 128, 24).chunks(8) {
         bvh.intersect_packet_counted(&RayPacket8::from_rays(chunk), &mut random);
     }
     assert_eq!(primary.rays, 128 * 128);
@@ -102,7 +102,7 @@ fn accel_kind_parses_builds_and_forwards() {
     assert!(AccelKind::from_str("kd", false).is_err());
     assert_eq!(AccelKind::Bvh.to_string(), "bvh");
     let prims = random::random_spheres(300, 25);
-    let rays = bvh_support::random_rays(bvh_support::scene_bounds(&prims), 2000, 26);
+    let rays = support::bvh::random_rays(support::bvh::scene_bounds(&prims), 2000, 26);
     let none = AccelKind::None.build(&prims);
     let bvh = AccelKind::Bvh.build(&prims);
     assert!(matches!(none, AnyAccel::None(_)) && none.kind() == AccelKind::None);
@@ -111,7 +111,7 @@ fn accel_kind_parses_builds_and_forwards() {
     for ray in &rays {
         let a = none.intersect_counted(ray, &mut stats[0]);
         let b = bvh.intersect_counted(ray, &mut stats[1]);
-        assert_eq!(bvh_support::key(&a), bvh_support::key(&b));
+        assert_eq!(support::bvh::key(&a), support::bvh::key(&b));
         assert_eq!(none.occluded(ray), bvh.occluded(ray));
     }
     assert!(stats[1].prim_tests < stats[0].prim_tests / 10);

@@ -2,12 +2,12 @@
 //! `file:line: message` and nothing on stdout for a bad one; `raypack env`
 //! describes the machine and the build.
 
-mod scratch;
+mod support;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use scratch::Scratch;
+use support::scratch::Scratch;
 
 fn info(args: &[&std::ffi::OsStr]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_raypack"))

@@ -1,13 +1,13 @@
 //! The cone kernel: packet against scalar lane by lane on 10⁶ seeded random rays,
 //! both against an independent f64 formulation, and hand-made edge cases.
 
-mod common;
+mod support;
 
-use common::{Agreement, both_t, ray, rays_around};
 use glam::{DVec3, Mat4, Vec3};
 use raypack::geometry::{Cone, GeometryError, Primitive, Transformed};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
+use support::kernel::{Agreement, both_t, ray, rays_around};
 use wide::{f32x4, f32x8, f32x16};
 
 /// A random cone: cylinders, pointed cones (either end), truncated cones
@@ -37,7 +37,7 @@ fn packet_kernels_agree_with_scalar_on_a_million_random_rays() {
     for _ in 0..250 {
         let cone = random_cone(&mut rng);
         let rays = rays_around(&mut rng, cone.bounds(), 4096);
-        let seen = common::check::<_, f32x8>(&cone, &rays, size(&cone), &mut rng);
+        let seen = support::kernel::check::<_, f32x8>(&cone, &rays, size(&cone), &mut rng);
         total.active += seen.active;
         total.hits += seen.hits;
         total.inactive += seen.inactive;
@@ -56,8 +56,8 @@ fn packet_kernels_agree_with_scalar_at_widths_4_and_16() {
     for _ in 0..40 {
         let cone = random_cone(&mut rng);
         let rays = rays_around(&mut rng, cone.bounds(), 1024);
-        let s4 = common::check::<_, f32x4>(&cone, &rays, size(&cone), &mut rng);
-        let s16 = common::check::<_, f32x16>(&cone, &rays, size(&cone), &mut rng);
+        let s4 = support::kernel::check::<_, f32x4>(&cone, &rays, size(&cone), &mut rng);
+        let s16 = support::kernel::check::<_, f32x16>(&cone, &rays, size(&cone), &mut rng);
         assert!(s4.active > 0 && s16.active > 0);
     }
 }
@@ -385,7 +385,7 @@ fn transformed_cone_works_through_primitive() {
     assert!((hit_t - 4.5).abs() < 1e-5, "{hit_t}");
     let mut rng = Rng::new(9);
     let rays = rays_around(&mut rng, prim.bounds().unwrap(), 8192);
-    let seen = common::check::<_, f32x8>(&prim, &rays, 2.0, &mut rng);
+    let seen = support::kernel::check::<_, f32x8>(&prim, &rays, 2.0, &mut rng);
     assert!(seen.hits > 0);
     assert_eq!(prim.kind(), raypack::geometry::PrimitiveKind::Transformed);
 }

@@ -2,11 +2,11 @@
 //! error with exit code 2 and leaves no file behind; every scene file shipped
 //! in `scenes/` renders in every mode.
 
-mod cli_support;
+mod support;
 
 use std::path::{Path, PathBuf};
 
-use cli_support::{raypack, scratch, stderr};
+use support::cli::{raypack, scratch, stderr};
 
 use raypack::accel::BruteForce;
 use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render};

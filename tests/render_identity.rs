@@ -2,7 +2,7 @@
 //! images: pixel for pixel in `id` and `depth` modes (and the primary hit
 //! records behind them), and in every other mode too, with the same ray counts.
 
-mod render_support;
+mod support;
 
 use raypack::accel::BruteForce;
 use raypack::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
@@ -65,7 +65,7 @@ fn assert_same(a: &Render, b: &Render, what: &str) {
 #[test]
 fn scalar_and_packet_renders_are_identical_in_id_and_depth_modes() {
     for seed in 1..=4 {
-        let mut scene = render_support::mixed_scene(40, seed);
+        let mut scene = support::render::mixed_scene(40, seed);
         scene.camera.as_mut().unwrap().width = 97;
         scene.camera.as_mut().unwrap().height = 61;
         for mode in [Mode::Id, Mode::Depth] {
@@ -89,7 +89,7 @@ fn scalar_and_packet_renders_are_identical_in_id_and_depth_modes() {
 
 #[test]
 fn scalar_and_packet_renders_are_identical_in_every_mode() {
-    let scene = render_support::mixed_scene(30, 9);
+    let scene = support::render::mixed_scene(30, 9);
     for mode in [Mode::Cast, Mode::Normals, Mode::Whitted] {
         let scalar = run(&scene, settings(mode, KernelKind::Scalar, Block::B4x2, 16), 2);
         let packet = run(&scene, settings(mode, KernelKind::Packet8, Block::B4x2, 16), 1);
@@ -111,7 +111,7 @@ fn scalar_and_packet_renders_are_identical_in_every_mode() {
 
 #[test]
 fn images_do_not_depend_on_threads_tiles_or_blocks() {
-    let scene = render_support::mixed_scene(25, 3);
+    let scene = support::render::mixed_scene(25, 3);
     let reference = run(
         &scene,
         settings(Mode::Whitted, KernelKind::Scalar, Block::B4x2, 64),

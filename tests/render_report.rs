@@ -1,7 +1,7 @@
 //! The numbers around a render: the JSON sidecar and caption, the annotated
 //! image, and the scene benchmark's measurements.
 
-mod render_support;
+mod support;
 
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
@@ -14,7 +14,7 @@ use raypack::render::{Block, Counting, KernelKind, Mode, RenderSettings, Samplin
 
 #[test]
 fn sidecar_caption_and_image_carry_the_same_numbers() {
-    let scene = render_support::mixed_scene(20, 4);
+    let scene = support::render::mixed_scene(20, 4);
     let camera = scene.camera.unwrap().camera_at(80, 40).unwrap();
     let settings = RenderSettings {
         mode: Mode::Whitted,
@@ -144,7 +144,7 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
 
 #[test]
 fn scene_bench_measures_every_variant_on_the_same_rays() {
-    let scene = render_support::sphere_cloud(40, 3, 64);
+    let scene = support::render::sphere_cloud(40, 3, 64);
     let camera = scene.camera.unwrap().camera().unwrap();
     let frame = PrimaryFrame::new(&camera, 16);
     let mut variants = Vec::new();

@@ -1,7 +1,7 @@
 //! `stats --spd`: the SPD's counting procedure gives identical counts with the
 //! scalar and the packet kernels, and hand-derived counts on simple scenes.
 
-mod render_support;
+mod support;
 
 use glam::Vec3;
 use raypack::accel::BruteForce;
@@ -9,7 +9,7 @@ use raypack::geometry::{Plane, Primitive};
 use raypack::render::spd::{SPD_SIZE, spd_counts};
 use raypack::render::{KernelKind, RayCounts};
 use raypack::scene::{Light, Scene};
-use render_support::{camera, material};
+use support::render::{camera, material};
 
 fn counts(scene: &Scene, kernel: KernelKind, threads: usize) -> RayCounts {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -24,7 +24,7 @@ const EYE_RAYS: u64 = (SPD_SIZE as u64 + 1) * (SPD_SIZE as u64 + 1);
 #[test]
 fn spd_counts_are_identical_for_scalar_and_packet_kernels() {
     for seed in [2, 8] {
-        let scene = render_support::mixed_scene(12, seed);
+        let scene = support::render::mixed_scene(12, seed);
         let scalar = counts(&scene, KernelKind::Scalar, 2);
         let packet = counts(&scene, KernelKind::Packet8, 2);
         assert_eq!(scalar, packet, "seed {seed}");
@@ -44,7 +44,7 @@ fn spd_counts_of_a_mirror_corridor_follow_from_the_rules() {
     // corridor: all 513² eye rays hit; each hit spawns a reflection while the
     // depth (eye = 1) is below 5, so 4 per eye ray; each of the 5 hits per eye
     // ray sees the light in front of its mirror: 5 unblocked shadow rays.
-    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 0.5, 0.5, 10.0, 0.0, 1.0)]);
+    let mut scene = support::render::with_materials(vec![material(Vec3::ONE, 0.5, 0.5, 10.0, 0.0, 1.0)]);
     scene.push(
         Primitive::Plane(Plane::point_normal(-Vec3::Z, Vec3::Z).unwrap()),
         0,
@@ -76,7 +76,7 @@ fn spd_eye_rays_go_through_pixel_corners() {
     // A half-space floor filling exactly the lower half of the view: with
     // corner rays the middle row (j = 256) looks exactly at the horizon
     // direction of the camera axis and the rows below it hit.
-    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 1.0, 0.0, 0.0, 0.0, 1.0)]);
+    let mut scene = support::render::with_materials(vec![material(Vec3::ONE, 1.0, 0.0, 0.0, 0.0, 1.0)]);
     scene.push(
         Primitive::Plane(Plane::point_normal(Vec3::new(0.0, -1.0, 0.0), Vec3::Y).unwrap()),
         0,

@@ -3,10 +3,9 @@
 //! primitive tests, counting changes no pixel, and the cost heat map puts the
 //! cost where the geometry is.
 
-mod cli_support;
-mod render_support;
+mod support;
 
-use cli_support::{raypack, scratch, stderr};
+use support::cli::{raypack, scratch, stderr};
 
 use glam::Vec3;
 use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalStats};
@@ -98,7 +97,7 @@ fn counted(scene: &Scene, accel: &impl Accel, camera: &Camera, s: &RenderSetting
 
 #[test]
 fn ray_casting_counts_equal_the_primary_rays_traced_directly() {
-    let mut scene = render_support::mixed_scene(60, 5);
+    let mut scene = support::render::mixed_scene(60, 5);
     scene.camera.as_mut().unwrap().width = 53;
     scene.camera.as_mut().unwrap().height = 37;
     let camera = scene.camera.unwrap().camera().unwrap();
@@ -137,7 +136,7 @@ fn ray_casting_counts_equal_the_primary_rays_traced_directly() {
 
 #[test]
 fn whitted_counts_every_ray_of_every_pixel_once() {
-    let scene = render_support::mixed_scene(40, 8);
+    let scene = support::render::mixed_scene(40, 8);
     let camera = scene.camera.unwrap().camera_at(48, 40).unwrap();
     let bvh = Bvh::new(&scene.primitives);
     for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
@@ -157,7 +156,7 @@ fn whitted_counts_every_ray_of_every_pixel_once() {
 
 /// One sphere in the middle of a 40×40 image, lit from the camera's side.
 fn one_sphere() -> Scene {
-    let mut scene = render_support::with_materials(vec![render_support::material(
+    let mut scene = support::render::with_materials(vec![support::render::material(
         Vec3::new(0.8, 0.2, 0.2),
         0.8,
         0.2,
@@ -170,7 +169,7 @@ fn one_sphere() -> Scene {
         position: Vec3::new(2.0, 3.0, 8.0),
         color: Vec3::ONE,
     }];
-    scene.camera = Some(render_support::camera(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 40));
+    scene.camera = Some(support::render::camera(Vec3::new(0.0, 0.0, 6.0), Vec3::ZERO, 40));
     scene
 }
 

@@ -1,14 +1,14 @@
 //! Whitted ray tracing end to end on scenes small enough to work out by hand:
 //! direct light, shadows, mirrors, glass, and the depth limit.
 
-mod render_support;
+mod support;
 
 use glam::Vec3;
 use raypack::accel::BruteForce;
 use raypack::geometry::{Plane, Primitive, Sphere};
 use raypack::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
 use raypack::scene::{CameraSpec, Light, Scene};
-use render_support::{camera, material};
+use support::render::{camera, material};
 
 fn trace(scene: &Scene, kernel: KernelKind, max_depth: u32) -> Render {
     let camera = scene.camera.unwrap().camera().unwrap();
@@ -43,7 +43,7 @@ fn trace_both(scene: &Scene, max_depth: u32) -> Render {
 /// A floor `y = 0` seen straight down from (0, 5, 0) in a 3×3 image (the
 /// centre pixel's ray is exactly −y), lit from (0, 10, 0).
 fn floor_scene(floor: raypack::scene::Material) -> Scene {
-    let mut scene = render_support::with_materials(vec![floor]);
+    let mut scene = support::render::with_materials(vec![floor]);
     scene.push(Primitive::Plane(Plane::implicit(0.0, 1.0, 0.0, 0.0).unwrap()), 0);
     scene.lights = vec![Light {
         position: Vec3::new(0.0, 10.0, 0.0),
@@ -118,7 +118,7 @@ fn a_mirror_floor_shows_what_is_above_it() {
 /// Two facing mirrors `z = −1` and `z = 1` with the camera between them: every
 /// ray bounces until the depth limit.
 fn mirror_pair(light: bool) -> Scene {
-    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 0.5, 0.5, 10.0, 0.0, 1.0)]);
+    let mut scene = support::render::with_materials(vec![material(Vec3::ONE, 0.5, 0.5, 10.0, 0.0, 1.0)]);
     scene.push(
         Primitive::Plane(Plane::point_normal(-Vec3::Z, Vec3::Z).unwrap()),
         0,
@@ -163,7 +163,7 @@ fn glass_spheres_refract_in_and_out() {
     // out (the exit angle equals the entry's refraction angle), but rounding
     // may tip a handful of grazing exits into total internal reflection, which
     // spawns the reflection alone.
-    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 0.0, 0.0, 0.0, 1.0, 1.5)]);
+    let mut scene = support::render::with_materials(vec![material(Vec3::ONE, 0.0, 0.0, 0.0, 1.0, 1.5)]);
     scene.push(Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0)), 0);
     scene.camera = Some(camera(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 40));
     scene.background = Vec3::new(0.0, 0.0, 1.0);
@@ -181,7 +181,7 @@ fn glass_spheres_refract_in_and_out() {
 /// Glass (T = 1, ior 1.5, Ks = 0) filling the half-space below `y = 0`, seen
 /// from inside it at `eye` looking at `center`, 3×3 pixels, no lights.
 fn glass_below(eye: Vec3, center: Vec3) -> Scene {
-    let mut scene = render_support::with_materials(vec![material(Vec3::ONE, 0.0, 0.0, 0.0, 1.0, 1.5)]);
+    let mut scene = support::render::with_materials(vec![material(Vec3::ONE, 0.0, 0.0, 0.0, 1.0, 1.5)]);
     scene.push(Primitive::Plane(Plane::implicit(0.0, 1.0, 0.0, 0.0).unwrap()), 0);
     scene.camera = Some(CameraSpec {
         up: Vec3::Z,

@@ -1,7 +1,7 @@
 //! OBJ loading: faces in file order (quads stay one polygon), negative indices,
 //! normals; every malformed input an error naming file and line, never a panic.
 
-mod common;
+mod support;
 
 use std::path::{Path, PathBuf};
 
@@ -10,7 +10,7 @@ use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::rng::Rng;
 use raypack::scene::{self, Scene, obj};
 
-use common::{assert_same_geometry, triangle_vertices};
+use support::kernel::{assert_same_geometry, triangle_vertices};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

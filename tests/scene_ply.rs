@@ -2,7 +2,7 @@
 //! vertices and face order; every malformed input an error naming file and line
 //! (or element and index for binary bodies), never a panic.
 
-mod common;
+mod support;
 
 use std::path::{Path, PathBuf};
 
@@ -11,7 +11,7 @@ use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::rng::Rng;
 use raypack::scene::{self, Scene, ply};
 
-use common::{assert_same_geometry, triangle_vertices};
+use support::kernel::{assert_same_geometry, triangle_vertices};
 
 /// The square pyramid of `tests/data/pyramid_*.ply`.
 const PYRAMID: [[f32; 3]; 5] = [

@@ -5,10 +5,8 @@
 //! inside-only spheres, ties on equal t, spheres behind and out of range,
 //! unused and NaN lanes, NaN and infinite input).
 
-mod common;
+mod support;
 
-use common::block::{BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel, both};
-use common::poisoned_rays;
 use glam::Vec3;
 use raypack::geometry::sphere::Spheres;
 use raypack::geometry::{BlockIntersect, Intersect, Sphere};
@@ -16,6 +14,10 @@ use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
 use raypack::simd::SimdFloat;
+use support::kernel::block::{
+    BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel, both,
+};
+use support::kernel::poisoned_rays;
 use wide::{f32x4, f32x8};
 
 /// The sphere block and its scalar twin.

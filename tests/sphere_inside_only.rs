@@ -1,13 +1,13 @@
 //! Inside-only spheres (NFF's negative radius): only the far root is visible and
 //! the normal points inwards; packet and scalar kernels agree lane by lane.
 
-mod common;
+mod support;
 
-use common::{Agreement, both_t, ray, rays_around};
 use glam::Vec3;
 use raypack::geometry::{Primitive, Sphere};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
+use support::kernel::{Agreement, both_t, ray, rays_around};
 use wide::{f32x4, f32x8, f32x16};
 
 fn dome() -> Sphere {
@@ -75,12 +75,12 @@ fn packet_kernels_agree_with_scalar_on_a_million_random_rays() {
             rng.range(0.1, 3.0),
         );
         let rays = rays_around(&mut rng, s.bounds(), 4096);
-        let seen = common::check::<_, f32x8>(&s, &rays, 2.0 * s.radius, &mut rng);
+        let seen = support::kernel::check::<_, f32x8>(&s, &rays, 2.0 * s.radius, &mut rng);
         total.active += seen.active;
         total.hits += seen.hits;
         total.inactive += seen.inactive;
-        common::check::<_, f32x4>(&s, &rays[..256], 2.0 * s.radius, &mut rng);
-        common::check::<_, f32x16>(&s, &rays[..256], 2.0 * s.radius, &mut rng);
+        support::kernel::check::<_, f32x4>(&s, &rays[..256], 2.0 * s.radius, &mut rng);
+        support::kernel::check::<_, f32x16>(&s, &rays[..256], 2.0 * s.radius, &mut rng);
     }
     assert!(total.active + total.inactive >= 1_000_000, "{total:?}");
     let hit_rate = total.hits as f64 / total.active as f64;

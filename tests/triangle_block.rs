@@ -5,10 +5,8 @@
 //! edges and equal t, vertices, parallel and grazing rays, unused and
 //! degenerate lanes, NaN and infinite input).
 
-mod common;
+mod support;
 
-use common::block::{BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel};
-use common::poisoned_rays;
 use glam::Vec3;
 use raypack::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
 use raypack::geometry::{BlockIntersect, Intersect, Triangle};
@@ -16,6 +14,8 @@ use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
 use raypack::simd::SimdFloat;
+use support::kernel::block::{BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel};
+use support::kernel::poisoned_rays;
 use wide::{f32x4, f32x8};
 
 /// The triangle block and its scalar twin, the projected triangle kernel.
@@ -87,7 +87,7 @@ fn ray(origin: [f32; 3], dir: [f32; 3]) -> Ray {
 
 /// Both kernels on `tris`, checked equal; the block's record.
 fn both(tris: &[(ProjectedTriangle, u32)], ray: &Ray, prior: Hit) -> Hit {
-    common::block::both::<Triangles>(tris, ray, prior)
+    support::kernel::block::both::<Triangles>(tris, ray, prior)
 }
 
 #[test]

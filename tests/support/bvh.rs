@@ -1,6 +1,5 @@
 //! Shared checks of the BVH test files: a BVH must answer every query exactly
 //! as brute force does.
-#![allow(dead_code)] // each test file uses part of this module
 
 use glam::Vec3;
 use raypack::accel::{Accel, BruteForce, Bvh};

@@ -1,8 +1,5 @@
 //! Running the `raypack` binary from integration tests.
 
-// Each test crate compiles its own copy and uses only some of the helpers.
-#![allow(dead_code)]
-
 use std::path::PathBuf;
 use std::process::{Command, Output};
 

@@ -1,7 +1,6 @@
 //! Scenes built in code for the render tests and benches (the file loaders are
 //! written elsewhere): every primitive kind, reflective and transmitting
 //! materials, several lights, and a camera.
-#![allow(dead_code)]
 
 use glam::{Mat4, Quat, Vec3};
 use raypack::geometry::{Plane, Polygon, Primitive, Sphere, Transformed, Triangle};

@@ -1,6 +1,5 @@
 //! Shared helpers of the integration tests: seeded random rays, the lane-by-lane
 //! comparison of a shape's packet kernel with its scalar kernel, and scene comparisons.
-#![allow(dead_code)]
 
 pub mod block;
 
