@@ -1,11 +1,8 @@
 //! `raypack check` and `raypack trace --engine embree` end to end.
-#![cfg(feature = "embree")]
-
-mod support;
 
 use std::process::Command;
 
-use support::cli::TINY_TRAVERSAL;
+use crate::support::cli::TINY_TRAVERSAL;
 
 use raypack::compare::csv::format_rays;
 use raypack::compare::random_rays;
@@ -80,7 +77,7 @@ p 3\n-1 -1 0\n0 -1 0\n0 1 0\np 3\n0 -1 0\n1 -1 0\n0 1 0\n";
 
 #[test]
 fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
-    let dir = support::cli::scratch("check-shared-edge");
+    let dir = crate::support::cli::scratch("check-shared-edge");
     let scene = dir.join("edge.nff");
     std::fs::write(&scene, SHARED_EDGE_NFF).unwrap();
     let png = dir.join("diff.png");
@@ -91,7 +88,11 @@ fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
         .arg(&png)
         .output()
         .unwrap();
-    assert!(output.status.success(), "{}", support::cli::stderr(&output));
+    assert!(
+        output.status.success(),
+        "{}",
+        crate::support::cli::stderr(&output)
+    );
     let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     let set = &report["sets"][0];
     let classes = &set["classes"];
@@ -129,7 +130,7 @@ fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
         .output()
         .unwrap();
     assert_eq!(output.status.code(), Some(2));
-    assert!(support::cli::stderr(&output).contains("primary"));
+    assert!(crate::support::cli::stderr(&output).contains("primary"));
     let output = raypack()
         .arg("check")
         .arg(&scene)

@@ -6,11 +6,10 @@
 //! The bars: at least 99.99% hit/miss agreement and 99.99% same-primitive
 //! agreement, p99 relative t error at most 1e-5 (2e-5 for a scene of
 //! instances, see below). The disagreements these bars allow are examined in
-//! `embree_edge_cases.rs` (ties where surfaces share or cross a point, leaks
+//! `edge_cases.rs` (ties where surfaces share or cross a point, leaks
 //! through shared edges); the rare "different primitive" on random rays is a ray
 //! passing within float precision of a polygon's or triangle's outline, which
 //! one engine counts as inside and the other as outside.
-#![cfg(feature = "embree")]
 
 use std::path::Path;
 use std::sync::Arc;

@@ -1,6 +1,5 @@
 //! The traps of calling Embree 4.4 through `embree4-sys` 0.0.12 (whose bindings
 //! come from the Embree 4.2 headers), each shown to be real and shown handled.
-#![cfg(feature = "embree")]
 
 use std::mem::{align_of, offset_of, size_of};
 use std::sync::Arc;

@@ -1,15 +1,13 @@
 //! The NFF reader: every entity on a good file, and malformed files, each of
 //! which must fail with `file:line: expected …, found …` naming the right line.
 
-mod support;
-
+use crate::support::scratch::Scratch;
 use glam::Vec3;
 use raypack::accel::{Accel, BruteForce};
 use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::ray::Ray;
 use raypack::scene::{self, Material, SceneError, nff};
 use std::path::Path;
-use support::scratch::Scratch;
 
 /// A file with every NFF entity, comments in odd places, tabs and CRLF endings.
 const EVERY_ENTITY: &str = "# every entity\r

@@ -2,7 +2,6 @@
 //! parallel, starting inside, limited by the interval, through shared edges and
 //! vertices, degenerate shapes, non-finite input; plus occlusion and the 4- and
 //! 16-wide packet paths. Each is traced by raypack (brute force) and Embree.
-#![cfg(feature = "embree")]
 
 use std::sync::Arc;
 

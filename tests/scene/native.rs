@@ -1,15 +1,13 @@
 //! The native TOML reader: every object type, transforms and includes on good
 //! files, and malformed files, each failing with `file:line:` on the right line.
 
-mod support;
-
+use crate::support::scratch::Scratch;
 use glam::{Mat4, Quat, Vec3};
 use raypack::accel::{Accel, BruteForce};
 use raypack::geometry::{Plane as PlaneForm, Primitive, PrimitiveKind};
 use raypack::ray::Ray;
 use raypack::scene::{self, Material, Scene, SceneError, native};
 use std::path::Path;
-use support::scratch::Scratch;
 
 const EVERY_OBJECT: &str = r#"
 background = [0.1, 0.2, 0.3]

@@ -1,8 +1,6 @@
 //! OBJ loading: faces in file order (quads stay one polygon), negative indices,
 //! normals; every malformed input an error naming file and line, never a panic.
 
-mod support;
-
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
@@ -10,7 +8,7 @@ use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::rng::Rng;
 use raypack::scene::{self, Scene, obj};
 
-use support::kernel::{assert_same_geometry, triangle_vertices};
+use crate::support::kernel::{assert_same_geometry, triangle_vertices};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

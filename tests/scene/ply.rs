@@ -2,8 +2,6 @@
 //! vertices and face order; every malformed input an error naming file and line
 //! (or element and index for binary bodies), never a panic.
 
-mod support;
-
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
@@ -11,7 +9,7 @@ use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::rng::Rng;
 use raypack::scene::{self, Scene, ply};
 
-use support::kernel::{assert_same_geometry, triangle_vertices};
+use crate::support::kernel::{assert_same_geometry, triangle_vertices};
 
 /// The square pyramid of `tests/data/pyramid_*.ply`.
 const PYRAMID: [[f32; 3]; 5] = [
