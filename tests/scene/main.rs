@@ -4,8 +4,31 @@
 #[path = "../support/mod.rs"]
 mod support;
 
+use std::path::{Path, PathBuf};
+
+use raypack::scene::Scene;
+
 mod files;
 mod native;
 mod nff;
 mod obj;
 mod ply;
+
+/// A file of `tests/data/`.
+pub fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// Assert `result` is an error whose message starts with `prefix` and contains `needle`.
+#[track_caller]
+pub fn assert_error(result: Result<Scene, String>, prefix: &str, needle: &str) {
+    match result {
+        Ok(_) => panic!("expected an error starting with {prefix:?}"),
+        Err(e) => assert!(
+            e.starts_with(prefix) && e.contains(needle),
+            "got {e:?}, wanted {prefix:?} … {needle:?}"
+        ),
+    }
+}

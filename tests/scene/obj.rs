@@ -1,7 +1,7 @@
 //! OBJ loading: faces in file order (quads stay one polygon), negative indices,
 //! normals; every malformed input an error naming file and line, never a panic.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::Vec3;
 use raypack::geometry::{Primitive, PrimitiveKind};
@@ -9,27 +9,10 @@ use raypack::rng::Rng;
 use raypack::scene::{self, Scene, obj};
 
 use crate::support::kernel::{assert_same_geometry, triangle_vertices};
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
+use crate::{assert_error, data};
 
 fn parse(text: &[u8]) -> Result<Scene, String> {
     obj::parse(Path::new("test.obj"), text).map_err(|e| e.to_string())
-}
-
-/// Assert `result` is an error whose message starts with `prefix` and contains `needle`.
-#[track_caller]
-fn assert_error(result: Result<Scene, String>, prefix: &str, needle: &str) {
-    match result {
-        Ok(_) => panic!("expected an error starting with {prefix:?}"),
-        Err(e) => assert!(
-            e.starts_with(prefix) && e.contains(needle),
-            "got {e:?}, wanted {prefix:?} … {needle:?}"
-        ),
-    }
 }
 
 #[test]

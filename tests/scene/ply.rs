@@ -10,6 +10,7 @@ use raypack::rng::Rng;
 use raypack::scene::{self, Scene, ply};
 
 use crate::support::kernel::{assert_same_geometry, triangle_vertices};
+use crate::{assert_error, data};
 
 /// The square pyramid of `tests/data/pyramid_*.ply`.
 const PYRAMID: [[f32; 3]; 5] = [
@@ -19,12 +20,6 @@ const PYRAMID: [[f32; 3]; 5] = [
     [0.0, 1.0, 0.0],
     [0.5, 0.5, 1.0],
 ];
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
 
 fn v(i: usize) -> Vec3 {
     Vec3::from_array(PYRAMID[i])
@@ -196,18 +191,6 @@ fn crlf_headers_and_blank_body_lines_are_fine() {
         triangle_vertices(&scene.primitives[0]),
         [Vec3::ZERO, Vec3::X, Vec3::Y]
     );
-}
-
-/// Assert `result` is an error whose message starts with `prefix` and contains `needle`.
-#[track_caller]
-fn assert_error(result: Result<Scene, String>, prefix: &str, needle: &str) {
-    match result {
-        Ok(_) => panic!("expected an error starting with {prefix:?}"),
-        Err(e) => assert!(
-            e.starts_with(prefix) && e.contains(needle),
-            "got {e:?}, wanted {prefix:?} … {needle:?}"
-        ),
-    }
 }
 
 #[test]
