@@ -54,12 +54,17 @@ fn rays_of(scene: &Scene, size: u32) -> Vec<Ray> {
     primary_rays_in_blocks(&spec.camera_at(size, size).expect("camera"))
 }
 
-/// The bench scenes: a sphereflake, a closed triangle mesh, and the mixed scene
-/// (triangles, spheres, polygons, instances, a mesh, planes as user geometry).
+/// The bench scenes: the SPD sphereflake (7381 spheres and a floor), a closed
+/// triangle mesh, and the mixed scene (triangles, spheres, polygons, instances,
+/// a mesh, planes as user geometry).
 fn scenes() -> Vec<Scene> {
-    [("sphereflake", 7381), ("mesh", 100_000), ("mixed", 5000)]
+    ["gen:sphereflake:4", "gen:mesh:100000", "gen:mixed:5000"]
         .into_iter()
-        .map(|(name, n)| test_scenes::by_name(name, n, 1).expect("generated scene"))
+        .map(|spec| {
+            test_scenes::from_spec(spec)
+                .expect("a gen: spec")
+                .expect("generated scene")
+        })
         .collect()
 }
 

@@ -94,6 +94,10 @@ fn generated_scenes_agree_with_robust_embree() {
         let embree = EmbreeScene::robust(device.clone(), &scene.primitives).expect("Embree scene");
         check_scene(&scene, &embree, 256, 100_000);
     }
+    // The SPD sphereflake, 91 spheres on a floor polygon.
+    let flake = test_scenes::from_spec("gen:sphereflake:2").unwrap().unwrap();
+    let embree = EmbreeScene::robust(device.clone(), &flake.primitives).expect("Embree scene");
+    check_scene(&flake, &embree, 256, 100_000);
 }
 
 #[test]

@@ -1,28 +1,27 @@
 //! Seeded scenes built in code, for comparing engines before (and besides) the
 //! scene files: random triangles, spheres, polygons, transformed objects and
 //! planes (the generators of [`random`]), a closed triangle mesh (shared edges
-//! everywhere), a sphereflake, and a mix of all of them. Each comes with a
-//! camera that frames it.
+//! everywhere), and a mix of all of them. Each comes with a camera that frames
+//! it. The sphereflake is `raypack gen`'s, the SPD's ([`Kind::Sphereflake`]).
 
 use std::path::Path;
 
 use clap::ValueEnum;
-use glam::{Quat, Vec3};
+use glam::Vec3;
 
-use crate::geometry::{Primitive, Sphere, Triangle};
+use crate::geometry::{Primitive, Triangle};
 use crate::scene::generate::random;
 use crate::scene::generate::{Kind, Params};
 use crate::scene::{CameraSpec, Material, Scene, nff};
 
 /// The generated scenes, by name.
-pub const NAMES: [&str; 8] = [
+pub const NAMES: [&str; 7] = [
     "triangles",
     "spheres",
     "polygons",
     "transformed",
     "planes",
     "mesh",
-    "sphereflake",
     "mixed",
 ];
 
@@ -39,7 +38,6 @@ pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
             p
         }
         "mesh" => uv_sphere_mesh(Vec3::ZERO, 4.0, n),
-        "sphereflake" => sphereflake(n),
         "mixed" => {
             let k = n / 5;
             let mut p = random::random_triangles(k, seed);
@@ -59,8 +57,8 @@ pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
 /// `spec` does not start with `gen:`. NAME is one of [`NAMES`] (N primitives,
 /// 1000 by default; seed 1 by default), or else a kind of `raypack gen`, as
 /// [`Kind`] names it (N its `--size`, SEED its `--seed`, each the kind's default
-/// when left out), generated as NFF and read back; so `gen:sphereflake` is the
-/// scene above and `gen:balls` the SPD's.
+/// when left out), generated as NFF and read back: `gen:sphereflake:3` is
+/// `raypack gen sphereflake --size 3`.
 pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
     let rest = spec.strip_prefix("gen:")?;
     let mut parts = rest.split(':');
@@ -156,32 +154,6 @@ pub fn uv_sphere_mesh(center: Vec3, radius: f32, n: usize) -> Vec<Primitive> {
     tris
 }
 
-/// A sphereflake (after E. Haines' SPD "balls"): a sphere with nine children of a
-/// third its radius on its surface, recursively, to about `n` spheres.
-pub fn sphereflake(n: usize) -> Vec<Primitive> {
-    let mut spheres = vec![(Vec3::ZERO, 1.0f32, Vec3::Y)];
-    let mut next = 0;
-    while spheres.len() + 9 <= n.max(1) {
-        let (c, r, axis) = spheres[next];
-        next += 1;
-        let frame = Quat::from_rotation_arc(Vec3::Y, axis);
-        for k in 0..9 {
-            let (elev, az): (f32, f32) = if k < 6 {
-                (0.2, k as f32 * std::f32::consts::TAU / 6.0)
-            } else {
-                (1.0, (k - 6) as f32 * std::f32::consts::TAU / 3.0 + 0.5)
-            };
-            let dir = frame * Vec3::new(elev.cos() * az.cos(), elev.sin(), elev.cos() * az.sin());
-            let child_r = r / 3.0;
-            spheres.push((c + (r + child_r) * dir, child_r, dir));
-        }
-    }
-    spheres
-        .into_iter()
-        .map(|(c, r, _)| Primitive::Sphere(Sphere::new(c, r)))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -228,10 +200,12 @@ mod tests {
         assert_eq!(tetra.primitives.len(), 4096);
         let mount = from_spec("gen:mount:1:4").unwrap().unwrap();
         assert_eq!(mount.primitives.len(), 132);
-        // The listed names come first: gen:sphereflake is the framed one above.
+        // One sphereflake, the SPD's, by either of its names: 91 spheres and the floor.
+        let flake = from_spec("gen:sphereflake:2").unwrap().unwrap();
+        assert_eq!(flake.primitives.len(), 92);
         assert_eq!(
-            from_spec("gen:sphereflake:200").unwrap().unwrap().primitives,
-            by_name("sphereflake", 200, 1).unwrap().primitives
+            flake.primitives,
+            from_spec("gen:balls:2").unwrap().unwrap().primitives
         );
         let err = |spec: &str| from_spec(spec).unwrap().unwrap_err();
         assert!(err("gen:tree:99").contains("--size 99 is out of range"));
