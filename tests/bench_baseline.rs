@@ -3,6 +3,9 @@
 //! significant change (beyond the default ±5% noise threshold) on at least
 //! 95% of the figures; a variant slowed through the bench timing hook
 //! (`RAYPACK_TEST_SLOWDOWN`) shows as slower.
+//!
+//! A test crate of its own, unlike the other command-line tests (`tests/cli/`):
+//! its timed runs must not share the CPU with tests running beside them.
 
 mod support;
 

@@ -3,8 +3,7 @@
 //! nearest-hit on hit or miss: 10⁵ random and 10⁵ primary rays per scene, for
 //! random scenes of every primitive type and for mixed scenes.
 
-mod support;
-
+use crate::support;
 use raypack::scene::generate::random;
 
 #[test]

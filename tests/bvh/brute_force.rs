@@ -1,8 +1,7 @@
 //! The lecture's brute-force loop: packet and scalar queries agree lane by lane
 //! over a mixed scene, the nearest primitive wins, and any-hit agrees with nearest-hit.
 
-mod support;
-
+use crate::support::kernel::random_ray;
 use glam::{Mat4, Vec3};
 use raypack::accel::{Accel, BruteForce};
 use raypack::bench::kernels::star_polygon;
@@ -11,7 +10,6 @@ use raypack::packet::RayPacket8;
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
 use raypack::simd::SimdFloat;
-use support::kernel::random_ray;
 
 /// Spheres, triangles, polygons, transformed spheres and one plane, at random.
 fn mixed_scene(rng: &mut Rng, n: usize) -> Vec<Primitive> {

@@ -3,8 +3,7 @@
 //! scenes, non-finite rays. Each must build, never panic, and answer exactly as
 //! brute force does.
 
-mod support;
-
+use crate::support;
 use glam::{Mat4, Vec3};
 use raypack::accel::bvh::{BuildOptions, MAX_DEPTH};
 use raypack::accel::{Accel, BruteForce, Bvh};

@@ -1,8 +1,7 @@
 //! Traversal statistics and the `--accel` choice: counted queries return exactly
 //! what plain queries return, and the counts mean what they say.
 
-mod support;
-
+use crate::support;
 use clap::ValueEnum;
 use raypack::accel::{Accel, AccelKind, AnyAccel, BruteForce, Bvh, TraversalStats};
 use raypack::packet::RayPacket8;

@@ -3,9 +3,7 @@
 //! targets are quoted from, all computed from the runs of the same run; and
 //! the environment the result was measured on.
 
-mod support;
-
-use support::cli::{raypack, stderr};
+use crate::support::cli::{raypack, stderr};
 
 #[test]
 fn rows_carry_consistent_ratios() {

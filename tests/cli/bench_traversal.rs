@@ -1,9 +1,7 @@
 //! `raypack bench traversal`: a tiny run reports every figure, and a scene
 //! file that cannot be read is the user's error (exit 2), not a panic.
 
-mod support;
-
-use support::cli::{TINY_TRAVERSAL, raypack, scratch, stderr};
+use crate::support::cli::{TINY_TRAVERSAL, raypack, scratch, stderr};
 
 #[test]
 fn traversal_bench_reports_json_rows_of_every_ray_kind() {

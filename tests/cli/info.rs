@@ -2,12 +2,10 @@
 //! `file:line: message` and nothing on stdout for a bad one; `raypack env`
 //! describes the machine and the build.
 
-mod support;
-
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use support::scratch::Scratch;
+use crate::support::scratch::Scratch;
 
 fn info(args: &[&std::ffi::OsStr]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_raypack"))

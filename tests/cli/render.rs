@@ -2,11 +2,9 @@
 //! error with exit code 2 and leaves no file behind; every scene file shipped
 //! in `scenes/` renders in every mode.
 
-mod support;
-
 use std::path::{Path, PathBuf};
 
-use support::cli::{raypack, scratch, stderr};
+use crate::support::cli::{raypack, scratch, stderr};
 
 use raypack::accel::BruteForce;
 use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render};

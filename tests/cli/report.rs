@@ -4,12 +4,10 @@
 //! input is the user's error. The browser part is skipped, saying so, where
 //! no Chromium is installed (CI installs Debian's `chromium`).
 
-mod support;
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use support::cli::{raypack, scratch, stderr};
+use crate::support::cli::{raypack, scratch, stderr};
 
 /// Run `raypack` with `args`, writing its stdout to `out`.
 fn bench_json(args: &[&str], out: &Path) {

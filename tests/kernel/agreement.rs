@@ -2,15 +2,13 @@
 //! random rays (inactive lanes and earlier hits included), and the projected
 //! barycentric triangle test agrees with the lecture's half-plane test.
 
-mod support;
-
+use crate::support::kernel::{assert_packet_matches_scalar, random_ray};
 use glam::{Mat4, Quat, Vec3};
 use raypack::bench::kernels::star_polygon;
 use raypack::geometry::triangle::intersect_half_plane;
 use raypack::geometry::{Intersect, Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
-use support::kernel::{assert_packet_matches_scalar, random_ray};
 use wide::{f32x4, f32x8, f32x16};
 
 const N: usize = 1_000_000;

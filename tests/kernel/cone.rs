@@ -1,13 +1,12 @@
 //! The cone kernel: packet against scalar lane by lane on 10⁶ seeded random rays,
 //! both against an independent f64 formulation, and hand-made edge cases.
 
-mod support;
-
+use crate::support;
+use crate::support::kernel::{Agreement, both_t, ray, rays_around};
 use glam::{DVec3, Mat4, Vec3};
 use raypack::geometry::{Cone, GeometryError, Primitive, Transformed};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
-use support::kernel::{Agreement, both_t, ray, rays_around};
 use wide::{f32x4, f32x8, f32x16};
 
 /// A random cone: cylinders, pointed cones (either end), truncated cones

@@ -4,15 +4,13 @@
 //! against the analytic ellipsoid. Each case runs the scalar kernel and the
 //! packet kernel (all eight lanes) and expects the same answer from both.
 
-mod support;
-
+use crate::support::kernel::assert_poisoned_rays_miss;
 use glam::{DVec3, Mat4, Quat, Vec3};
 use raypack::bench::kernels::star_polygon;
 use raypack::geometry::{GeometryError, Intersect, Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
 use raypack::packet::{HitPacket, RayPacket8};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
-use support::kernel::assert_poisoned_rays_miss;
 
 /// The hit of `ray` on `shape` by both kernels; panics if they disagree.
 fn trace<K: Intersect>(shape: &K, ray: Ray) -> Option<Hit> {

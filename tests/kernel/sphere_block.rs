@@ -5,8 +5,10 @@
 //! inside-only spheres, ties on equal t, spheres behind and out of range,
 //! unused and NaN lanes, NaN and infinite input).
 
-mod support;
-
+use crate::support::kernel::block::{
+    BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel, both,
+};
+use crate::support::kernel::poisoned_rays;
 use glam::Vec3;
 use raypack::geometry::sphere::Spheres;
 use raypack::geometry::{BlockIntersect, Intersect, Sphere};
@@ -14,10 +16,6 @@ use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
 use raypack::simd::SimdFloat;
-use support::kernel::block::{
-    BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel, both,
-};
-use support::kernel::poisoned_rays;
 use wide::{f32x4, f32x8};
 
 /// The sphere block and its scalar twin.

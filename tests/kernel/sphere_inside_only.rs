@@ -1,13 +1,12 @@
 //! Inside-only spheres (NFF's negative radius): only the far root is visible and
 //! the normal points inwards; packet and scalar kernels agree lane by lane.
 
-mod support;
-
+use crate::support;
+use crate::support::kernel::{Agreement, both_t, ray, rays_around};
 use glam::Vec3;
 use raypack::geometry::{Primitive, Sphere};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
-use support::kernel::{Agreement, both_t, ray, rays_around};
 use wide::{f32x4, f32x8, f32x16};
 
 fn dome() -> Sphere {

@@ -5,8 +5,11 @@
 //! edges and equal t, vertices, parallel and grazing rays, unused and
 //! degenerate lanes, NaN and infinite input).
 
-mod support;
-
+use crate::support;
+use crate::support::kernel::block::{
+    BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel,
+};
+use crate::support::kernel::poisoned_rays;
 use glam::Vec3;
 use raypack::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
 use raypack::geometry::{BlockIntersect, Intersect, Triangle};
@@ -14,8 +17,6 @@ use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
 use raypack::simd::SimdFloat;
-use support::kernel::block::{BlockKernel, assert_block_agrees, assert_block_lanes_run_the_packet_kernel};
-use support::kernel::poisoned_rays;
 use wide::{f32x4, f32x8};
 
 /// The triangle block and its scalar twin, the projected triangle kernel.

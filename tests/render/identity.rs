@@ -2,8 +2,7 @@
 //! images: pixel for pixel in `id` and `depth` modes (and the primary hit
 //! records behind them), and in every other mode too, with the same ray counts.
 
-mod support;
-
+use crate::support;
 use raypack::accel::BruteForce;
 use raypack::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
 use raypack::scene::Scene;

@@ -1,8 +1,7 @@
 //! The numbers around a render: the JSON sidecar and caption, the annotated
 //! image, and the scene benchmark's measurements.
 
-mod support;
-
+use crate::support;
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
 use raypack::bench::slowdown::Slowdown;

@@ -1,15 +1,14 @@
 //! `stats --spd`: the SPD's counting procedure gives identical counts with the
 //! scalar and the packet kernels, and hand-derived counts on simple scenes.
 
-mod support;
-
+use crate::support;
+use crate::support::render::{camera, material};
 use glam::Vec3;
 use raypack::accel::BruteForce;
 use raypack::geometry::{Plane, Primitive};
 use raypack::render::spd::{SPD_SIZE, spd_counts};
 use raypack::render::{KernelKind, RayCounts};
 use raypack::scene::{Light, Scene};
-use support::render::{camera, material};
 
 fn counts(scene: &Scene, kernel: KernelKind, threads: usize) -> RayCounts {
     let pool = rayon::ThreadPoolBuilder::new()

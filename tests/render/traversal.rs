@@ -3,9 +3,8 @@
 //! primitive tests, counting changes no pixel, and the cost heat map puts the
 //! cost where the geometry is.
 
-mod support;
-
-use support::cli::{raypack, scratch, stderr};
+use crate::support;
+use crate::support::cli::{raypack, scratch, stderr};
 
 use glam::Vec3;
 use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalStats};

@@ -1,14 +1,13 @@
 //! Whitted ray tracing end to end on scenes small enough to work out by hand:
 //! direct light, shadows, mirrors, glass, and the depth limit.
 
-mod support;
-
+use crate::support;
+use crate::support::render::{camera, material};
 use glam::Vec3;
 use raypack::accel::BruteForce;
 use raypack::geometry::{Plane, Primitive, Sphere};
 use raypack::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
 use raypack::scene::{CameraSpec, Light, Scene};
-use support::render::{camera, material};
 
 fn trace(scene: &Scene, kernel: KernelKind, max_depth: u32) -> Render {
     let camera = scene.camera.unwrap().camera().unwrap();

@@ -149,26 +149,26 @@ fn fuzz_findings_load_or_fail_cleanly() {
         // A cylinder 958351 long and 0.07 wide: measured from its base, f32
         // kept its far end to 0.06 and its kernel took a hit 0.03 past it,
         // outside its box, so single rays and packets disagreed (fuzz target
-        // pipeline); tests/cone_kernel.rs traces the ray.
+        // pipeline); tests/kernel/cone.rs traces the ray.
         ("pipeline_long_cylinder_end.nff", Ok(44)),
         // A triangle 4·10¹⁸ long and about 1 wide: its kernel's edge margin
         // (a millionth in barycentric units) reached 10¹² beyond its end, so a
         // hit lay outside its box and single rays culled it (fuzz target
-        // pipeline); tests/bvh_agrees_with_brute_force.rs traces it.
+        // pipeline); tests/bvh/agrees_with_brute_force.rs traces it.
         ("pipeline_needle_triangle.nff", Ok(20)),
         // A tree's branch cone 1560 long whose axis is 1.9e-4 off z: its box
         // had lost the rims' tilt (1 − w_z² cancelled), so a grazing ray's hit
         // on the rim lay outside it (fuzz target pipeline);
-        // tests/cone_kernel.rs checks such rims against the box.
+        // tests/kernel/cone.rs checks such rims against the box.
         ("pipeline_tilted_cone_rim.nff", Ok(19)),
         // A 10-vertex polygon whose vertices are not coplanar: a hit on its
         // plane fell outside its vertices' box, where single rays culled it
-        // (fuzz target pipeline); tests/bvh_agrees_with_brute_force.rs traces it.
+        // (fuzz target pipeline); tests/bvh/agrees_with_brute_force.rs traces it.
         ("pipeline_polygon_outside_box.nff", Ok(19)),
         // A cone 43951 long and 0.1 wide (and a sphere of radius 2e21): its
         // kernel reported a hit 0.7 off the axis, outside the cone's box, so
         // the BVH's single rays and its packets disagreed (fuzz target
-        // pipeline); tests/cone_kernel.rs traces the ray.
+        // pipeline); tests/kernel/cone.rs traces the ray.
         ("pipeline_long_thin_cone.nff", Ok(46)),
         // 4294967295 instances of a property-less element (zero bytes each) in
         // a binary body: the reader looped over them (libFuzzer timeout).

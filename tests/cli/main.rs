@@ -1,0 +1,13 @@
+//! The command line, one test crate: `render`, `stats`, `info`, `env`, `trace`,
+//! `report` and the `bench` subcommands, run as a user runs them (the built
+//! binary), bad input included.
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod bench_scene;
+mod bench_traversal;
+mod info;
+mod render;
+mod report;
+mod trace;
