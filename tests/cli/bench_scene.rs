@@ -3,15 +3,11 @@
 //! targets are quoted from, all computed from the runs of the same run; and
 //! the environment the result was measured on.
 
-use crate::support::cli::{raypack, stderr};
+use crate::support::cli::{bench_scene_json, raypack, stderr};
 
 #[test]
 fn rows_carry_consistent_ratios() {
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
-    let out = raypack(&[
-        "bench",
-        "scene",
-        scene,
+    let result = bench_scene_json(&[
         "--size",
         "64x32",
         "--runs",
@@ -22,10 +18,7 @@ fn rows_carry_consistent_ratios() {
         "scalar,packet8",
         "--rays",
         "primary",
-        "--json",
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let result: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     let rows = result["rows"].as_array().expect("an array of rows");
     assert_eq!(rows.len(), 4);
     let mrays = |r: &serde_json::Value| r["median"].as_f64().unwrap();
@@ -56,21 +49,7 @@ fn rows_carry_consistent_ratios() {
 /// primary hit, and the ratios are taken within a kind.
 #[test]
 fn every_ray_kind_gets_its_rows() {
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
-    let out = raypack(&[
-        "bench",
-        "scene",
-        scene,
-        "--size",
-        "32x16",
-        "--runs",
-        "1",
-        "--threads",
-        "1",
-        "--json",
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let result: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let result = bench_scene_json(&["--size", "32x16", "--runs", "1", "--threads", "1"]);
     let rows = result["rows"].as_array().expect("an array of rows");
     let kinds: Vec<(&str, &str)> = rows
         .iter()
@@ -100,11 +79,7 @@ fn every_ray_kind_gets_its_rows() {
 /// order are checked.)
 #[test]
 fn rows_carry_intervals_and_the_result_its_environment() {
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
-    let out = raypack(&[
-        "bench",
-        "scene",
-        scene,
+    let result = bench_scene_json(&[
         "--engine",
         "raypack",
         "--size",
@@ -115,10 +90,7 @@ fn rows_carry_intervals_and_the_result_its_environment() {
         "1",
         "--rays",
         "primary,shadow",
-        "--json",
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let result: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     assert_eq!(result["command"], "scene");
     let rows = result["rows"].as_array().expect("rows");
     assert_eq!(rows.len(), 4);

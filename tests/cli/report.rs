@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::support::cli::{raypack, scratch, stderr};
+use crate::support::cli::{SMALL_SCENE, bench_scene_json, raypack, scratch, stderr};
 
 /// Run `raypack` with `args`, writing its stdout to `out`.
 fn bench_json(args: &[&str], out: &Path) {
@@ -27,25 +27,18 @@ fn chromium() -> Option<PathBuf> {
 #[test]
 fn the_report_loads_in_headless_chromium_and_shows_its_charts() {
     let dir = scratch("report");
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/spd_balls_small.nff");
     let (scene_json, kernels_json) = (dir.join("scene.json"), dir.join("kernels.json"));
-    bench_json(
-        &[
-            "bench",
-            "scene",
-            scene,
-            "--size",
-            "32x16",
-            "--runs",
-            "6",
-            "--threads",
-            "1,2",
-            "--rays",
-            "primary,shadow",
-            "--json",
-        ],
-        &scene_json,
-    );
+    let result = bench_scene_json(&[
+        "--size",
+        "32x16",
+        "--runs",
+        "6",
+        "--threads",
+        "1,2",
+        "--rays",
+        "primary,shadow",
+    ]);
+    std::fs::write(&scene_json, result.to_string()).unwrap();
     bench_json(
         &[
             "bench",
@@ -64,7 +57,7 @@ fn the_report_loads_in_headless_chromium_and_shows_its_charts() {
     let render = dir.join("render.png");
     let o = raypack(&[
         "render",
-        scene,
+        SMALL_SCENE,
         "-o",
         render.to_str().unwrap(),
         "--size",

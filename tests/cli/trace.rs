@@ -2,38 +2,23 @@
 //! (exit 2) for bad input, and no half-written output.
 
 use std::path::PathBuf;
-use std::process::Command;
 
 use raypack::accel::{Accel, BruteForce};
 use raypack::compare::csv::format_rays;
 use raypack::compare::random_rays;
 use raypack::scene::generate::test_scenes;
 
-fn raypack() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_raypack"))
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("raypack-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use crate::support::cli::{scratch, stderr, trace};
 
 #[test]
 fn trace_writes_one_hit_per_ray_in_file_order() {
-    let dir = temp_dir("trace");
+    let dir = scratch("trace");
     let scene = test_scenes::by_name("mixed", 120, 5).unwrap();
     let rays = random_rays(scene.bounds(), 500, 2);
     std::fs::write(dir.join("rays.csv"), format_rays(&rays)).unwrap();
     let out = dir.join("hits.csv");
-    let status = raypack()
-        .args(["trace", "gen:mixed:120:5", "--rays"])
-        .arg(dir.join("rays.csv"))
-        .arg("--out")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(status.success());
+    let o = trace("gen:mixed:120:5", &dir.join("rays.csv"), &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("t,prim"));
@@ -61,7 +46,7 @@ fn trace_writes_one_hit_per_ray_in_file_order() {
 
 #[test]
 fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
-    let dir = temp_dir("trace-bad");
+    let dir = scratch("trace-bad");
     let out = dir.join("hits.csv");
     std::fs::write(
         dir.join("bad.csv"),
@@ -86,14 +71,8 @@ fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
         ),
     ];
     for (scene, rays, message) in cases {
-        let output = raypack()
-            .args(["trace", scene, "--rays"])
-            .arg(&rays)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&output.stderr);
+        let output = trace(scene, &rays, &out, &[]);
+        let stderr = stderr(&output);
         assert_eq!(output.status.code(), Some(2), "{stderr}");
         assert!(stderr.contains(message), "{stderr:?} should say {message:?}");
         assert!(!out.exists(), "no output file on bad input");
@@ -104,43 +83,42 @@ fn bad_input_exits_2_with_file_and_line_and_writes_nothing() {
 #[cfg(not(feature = "embree"))]
 #[test]
 fn embree_without_the_feature_is_a_clear_error() {
-    let dir = temp_dir("trace-noembree");
+    use crate::support::cli::raypack;
+    let dir = scratch("trace-noembree");
     std::fs::write(
         dir.join("rays.csv"),
         "ox,oy,oz,dx,dy,dz,tmin,tmax\n0,0,9,0,0,-1,0,inf\n",
     )
     .unwrap();
-    let output = raypack()
-        .args(["trace", "gen:spheres:10", "--engine", "embree", "--rays"])
-        .arg(dir.join("rays.csv"))
-        .arg("--out")
-        .arg(dir.join("hits.csv"))
-        .output()
-        .unwrap();
+    let output = trace(
+        "gen:spheres:10",
+        &dir.join("rays.csv"),
+        &dir.join("hits.csv"),
+        &["--engine", "embree"],
+    );
     assert_eq!(output.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("built without the `embree` feature"));
-    let output = raypack().args(["check", "gen:spheres:10"]).output().unwrap();
+    assert!(stderr(&output).contains("built without the `embree` feature"));
+    let output = raypack(&["check", "gen:spheres:10"]);
     assert_eq!(output.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&output.stderr).contains("scripts/install-embree.sh"));
+    assert!(stderr(&output).contains("scripts/install-embree.sh"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn diff_classifies_the_rays_on_which_another_engines_hits_differ() {
-    let dir = temp_dir("trace-diff");
+    let dir = scratch("trace-diff");
     let scene = test_scenes::by_name("mixed", 120, 5).unwrap();
     let rays = random_rays(scene.bounds(), 300, 3);
     std::fs::write(dir.join("rays.csv"), format_rays(&rays)).unwrap();
     let trace = |diff: Option<&PathBuf>| {
-        let mut c = raypack();
-        c.args(["trace", "gen:mixed:120:5", "--rays"])
-            .arg(dir.join("rays.csv"))
-            .arg("--out")
-            .arg(dir.join("hits.csv"));
-        if let Some(d) = diff {
-            c.arg("--diff").arg(d);
-        }
-        c.output().unwrap()
+        let diff = diff.map(|d| d.to_str().unwrap());
+        let extra = diff.map(|d| vec!["--diff", d]).unwrap_or_default();
+        trace(
+            "gen:mixed:120:5",
+            &dir.join("rays.csv"),
+            &dir.join("hits.csv"),
+            &extra,
+        )
     };
     assert!(trace(None).status.success());
     let ours = std::fs::read_to_string(dir.join("hits.csv")).unwrap();

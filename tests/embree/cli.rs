@@ -2,7 +2,7 @@
 
 use std::process::Command;
 
-use crate::support::cli::TINY_TRAVERSAL;
+use crate::support::cli::{TINY_TRAVERSAL, scratch, stderr};
 
 use raypack::compare::csv::format_rays;
 use raypack::compare::random_rays;
@@ -77,7 +77,7 @@ p 3\n-1 -1 0\n0 -1 0\n0 1 0\np 3\n0 -1 0\n1 -1 0\n0 1 0\n";
 
 #[test]
 fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
-    let dir = crate::support::cli::scratch("check-shared-edge");
+    let dir = scratch("check-shared-edge");
     let scene = dir.join("edge.nff");
     std::fs::write(&scene, SHARED_EDGE_NFF).unwrap();
     let png = dir.join("diff.png");
@@ -88,11 +88,7 @@ fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
         .arg(&png)
         .output()
         .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        crate::support::cli::stderr(&output)
-    );
+    assert!(output.status.success(), "{}", stderr(&output));
     let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     let set = &report["sets"][0];
     let classes = &set["classes"];
@@ -130,7 +126,7 @@ fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
         .output()
         .unwrap();
     assert_eq!(output.status.code(), Some(2));
-    assert!(crate::support::cli::stderr(&output).contains("primary"));
+    assert!(stderr(&output).contains("primary"));
     let output = raypack()
         .arg("check")
         .arg(&scene)
@@ -144,8 +140,7 @@ fn check_classifies_a_shared_edge_as_a_tie_in_counts_json_and_diff_image() {
 
 #[test]
 fn trace_through_embree_matches_raypack_on_the_same_file() {
-    let dir = std::env::temp_dir().join(format!("raypack-embree-trace-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("embree-trace");
     let scene = test_scenes::by_name("transformed", 150, 2).unwrap();
     std::fs::write(
         dir.join("rays.csv"),
@@ -154,22 +149,13 @@ fn trace_through_embree_matches_raypack_on_the_same_file() {
     .unwrap();
     let trace = |engine: &str, kernel: &str| {
         let out = dir.join(format!("{engine}-{kernel}.csv"));
-        let status = raypack()
-            .args([
-                "trace",
-                "gen:transformed:150:2",
-                "--engine",
-                engine,
-                "--kernel",
-                kernel,
-                "--rays",
-            ])
-            .arg(dir.join("rays.csv"))
-            .arg("--out")
-            .arg(&out)
-            .status()
-            .unwrap();
-        assert!(status.success());
+        let o = crate::support::cli::trace(
+            "gen:transformed:150:2",
+            &dir.join("rays.csv"),
+            &out,
+            &["--engine", engine, "--kernel", kernel],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
         std::fs::read_to_string(out).unwrap()
     };
     let raypack_hits = trace("raypack", "packet8");

@@ -104,17 +104,7 @@ fn polygon_packet_matches_scalar() {
         20,
     );
     // A concave L-shape in a tilted plane.
-    let l_shape: Vec<Vec3> = [
-        (0.0, 0.0),
-        (2.0, 0.0),
-        (2.0, 1.0),
-        (1.0, 1.0),
-        (1.0, 2.0),
-        (0.0, 2.0),
-    ]
-    .iter()
-    .map(|&(x, y)| Vec3::new(x, 0.5 * x - 0.25 * y, y))
-    .collect();
+    let l_shape = crate::L_SHAPE.map(|(x, y)| Vec3::new(x, 0.5 * x - 0.25 * y, y));
     agree(
         "L polygon",
         &Polygon::new(&l_shape).unwrap(),

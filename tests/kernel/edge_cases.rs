@@ -254,17 +254,9 @@ fn degenerate_triangles_are_never_hit() {
 
 // ---- polygons ------------------------------------------------------------------
 
+/// The L in the plane z = 0.
 fn l_shape() -> Polygon {
-    // 2×2 square with the upper-right quarter cut out, in the plane z = 0.
-    let v = [
-        (0.0, 0.0),
-        (2.0, 0.0),
-        (2.0, 1.0),
-        (1.0, 1.0),
-        (1.0, 2.0),
-        (0.0, 2.0),
-    ];
-    Polygon::new(&v.map(|(x, y)| Vec3::new(x, y, 0.0))).unwrap()
+    Polygon::new(&crate::L_SHAPE.map(|(x, y)| Vec3::new(x, y, 0.0))).unwrap()
 }
 
 #[test]

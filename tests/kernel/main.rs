@@ -11,3 +11,14 @@ mod edge_cases;
 mod sphere_block;
 mod sphere_inside_only;
 mod triangle_block;
+
+/// A concave L in its plane's (x, y): the 2×2 square with the upper-right
+/// quarter cut out, counter-clockwise.
+pub const L_SHAPE: [(f32, f32); 6] = [
+    (0.0, 0.0),
+    (2.0, 0.0),
+    (2.0, 1.0),
+    (1.0, 1.0),
+    (1.0, 2.0),
+    (0.0, 2.0),
+];

@@ -14,6 +14,17 @@ use raypack::render::spd_published::{Published, table};
 use raypack::render::{KernelKind, RayCounts};
 use raypack::scene::generate::{Kind, Params};
 
+/// The small variants of the SPD scenes in `scenes/`.
+const SMALL_SPD_SCENES: [&str; 7] = [
+    "spd_tetra_small.nff",
+    "spd_balls_small.nff",
+    "spd_mount_small.nff",
+    "spd_gears_small.nff",
+    "spd_rings_small.nff",
+    "spd_tree_small.nff",
+    "spd_teapot_small.nff",
+];
+
 fn scene_path(name: &str) -> Option<PathBuf> {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
@@ -33,15 +44,7 @@ fn counts_with(scene: &raypack::scene::Scene, accel: &impl Accel, kernel: Kernel
 
 #[test]
 fn small_spd_scenes_count_the_same_with_the_bvh_and_brute_force() {
-    for name in [
-        "spd_tetra_small.nff",
-        "spd_balls_small.nff",
-        "spd_mount_small.nff",
-        "spd_gears_small.nff",
-        "spd_rings_small.nff",
-        "spd_tree_small.nff",
-        "spd_teapot_small.nff",
-    ] {
+    for name in SMALL_SPD_SCENES {
         let path = scene_path(name).expect("the SPD scenes are in scenes/");
         let scene = raypack::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let bvh = Bvh::new(&scene.primitives);
@@ -55,15 +58,7 @@ fn small_spd_scenes_count_the_same_with_the_bvh_and_brute_force() {
 
 #[test]
 fn small_spd_scenes_count_the_same_with_both_kernels() {
-    for name in [
-        "spd_tetra_small.nff",
-        "spd_balls_small.nff",
-        "spd_mount_small.nff",
-        "spd_gears_small.nff",
-        "spd_rings_small.nff",
-        "spd_tree_small.nff",
-        "spd_teapot_small.nff",
-    ] {
+    for name in SMALL_SPD_SCENES {
         let Some(path) = scene_path(name) else {
             continue;
         };

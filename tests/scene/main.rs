@@ -6,6 +6,7 @@ mod support;
 
 use std::path::{Path, PathBuf};
 
+use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::scene::Scene;
 
 mod files;
@@ -32,3 +33,17 @@ pub fn assert_error(result: Result<Scene, String>, prefix: &str, needle: &str) {
         ),
     }
 }
+
+/// The kind of each primitive of `scene`, in order.
+pub fn kinds(scene: &Scene) -> Vec<PrimitiveKind> {
+    scene.primitives.iter().map(Primitive::kind).collect()
+}
+
+/// The pyramid of `tests/data/pyramid.*`: a quad base, then its 4 sides.
+pub const PYRAMID_KINDS: [PrimitiveKind; 5] = [
+    PrimitiveKind::Polygon,
+    PrimitiveKind::Triangle,
+    PrimitiveKind::Triangle,
+    PrimitiveKind::Triangle,
+    PrimitiveKind::Triangle,
+];

@@ -88,7 +88,7 @@ fn parse(text: &str) -> Result<Scene, SceneError> {
 fn every_object_type_is_read() {
     let s = parse(EVERY_OBJECT).unwrap();
     use PrimitiveKind::*;
-    let kinds: Vec<PrimitiveKind> = s.primitives.iter().map(Primitive::kind).collect();
+    let kinds = crate::kinds(&s);
     assert_eq!(
         kinds,
         [Sphere, Sphere, Plane, Plane, Plane, Triangle, Polygon, Cone]
@@ -275,7 +275,7 @@ fn includes_take_consecutive_indices_materials_and_transforms() {
     let main = dir.path().join("main.toml");
     let s = scene::load(&main).unwrap();
     use PrimitiveKind::*;
-    let kinds: Vec<PrimitiveKind> = s.primitives.iter().map(Primitive::kind).collect();
+    let kinds = crate::kinds(&s);
     assert_eq!(kinds, [Sphere, Triangle, Transformed, Triangle, Sphere, Cone]);
     // The included triangle is baked, its sphere transformed.
     let Primitive::Triangle(t) = &s.primitives[1] else {

@@ -44,7 +44,7 @@ fn parse(text: &str) -> Result<scene::Scene, SceneError> {
 #[test]
 fn every_entity_is_read() {
     let s = parse(EVERY_ENTITY).unwrap();
-    let kinds: Vec<PrimitiveKind> = s.primitives.iter().map(Primitive::kind).collect();
+    let kinds = crate::kinds(&s);
     use PrimitiveKind::*;
     assert_eq!(kinds, [Sphere, Sphere, Polygon, Triangle, Polygon, Cone]);
     // Materials: the default one for the first sphere, then one per `f`.

@@ -9,7 +9,7 @@ use raypack::rng::Rng;
 use raypack::scene::{self, Scene, obj};
 
 use crate::support::kernel::{assert_same_geometry, triangle_vertices};
-use crate::{assert_error, data};
+use crate::{PYRAMID_KINDS, assert_error, data, kinds};
 
 fn parse(text: &[u8]) -> Result<Scene, String> {
     obj::parse(Path::new("test.obj"), text).map_err(|e| e.to_string())
@@ -18,17 +18,7 @@ fn parse(text: &[u8]) -> Result<Scene, String> {
 #[test]
 fn pyramid_with_a_quad_normals_and_relative_indices() {
     let scene = scene::load(&data("pyramid.obj")).unwrap();
-    let kinds: Vec<_> = scene.primitives.iter().map(Primitive::kind).collect();
-    assert_eq!(
-        kinds,
-        [
-            PrimitiveKind::Polygon,
-            PrimitiveKind::Triangle,
-            PrimitiveKind::Triangle,
-            PrimitiveKind::Triangle,
-            PrimitiveKind::Triangle
-        ]
-    );
+    assert_eq!(kinds(&scene), PYRAMID_KINDS);
     let apex = Vec3::new(0.5, 0.5, 1.0);
     let corner = |x: f32, y: f32| Vec3::new(x, y, 0.0);
     assert_eq!(

@@ -10,7 +10,7 @@ use raypack::rng::Rng;
 use raypack::scene::{self, Scene, ply};
 
 use crate::support::kernel::{assert_same_geometry, triangle_vertices};
-use crate::{assert_error, data};
+use crate::{PYRAMID_KINDS, assert_error, data, kinds};
 
 /// The square pyramid of `tests/data/pyramid_*.ply`.
 const PYRAMID: [[f32; 3]; 5] = [
@@ -114,17 +114,7 @@ fn gzip(bytes: &[u8]) -> Vec<u8> {
 
 /// Check the pyramid: a quad base then 4 triangles, in file order.
 fn check_pyramid(scene: &Scene) {
-    let kinds: Vec<_> = scene.primitives.iter().map(Primitive::kind).collect();
-    assert_eq!(
-        kinds,
-        [
-            PrimitiveKind::Polygon,
-            PrimitiveKind::Triangle,
-            PrimitiveKind::Triangle,
-            PrimitiveKind::Triangle,
-            PrimitiveKind::Triangle
-        ]
-    );
+    assert_eq!(kinds(scene), PYRAMID_KINDS);
     assert_eq!(triangle_vertices(&scene.primitives[1]), [v(0), v(1), v(4)]);
     assert_eq!(triangle_vertices(&scene.primitives[2]), [v(1), v(2), v(4)]);
     assert_eq!(triangle_vertices(&scene.primitives[4]), [v(3), v(0), v(4)]);
