@@ -88,13 +88,7 @@ pub struct Built {
 
 /// Build over the primitive boxes `boxes` (finite, non-empty list).
 pub fn build(boxes: &[Aabb], options: &BuildOptions) -> Built {
-    let ctx = Context {
-        bins: options.bins.clamp(2, MAX_BINS),
-        max_leaf: options.max_leaf_size.max(1),
-        c_trav: options.traversal_cost,
-        c_isect: options.intersection_cost,
-        block: options.block_size.max(1),
-    };
+    let ctx = Context::new(options);
     let mut refs: Vec<PrimRef> = boxes
         .par_iter()
         .enumerate()
@@ -110,9 +104,10 @@ pub fn build(boxes: &[Aabb], options: &BuildOptions) -> Built {
             || (Box3::EMPTY, Box3::EMPTY),
             |(b1, c1), (b2, c2)| (b1.union(&b2), c1.union(&c2)),
         );
-    let tree = ctx.subtree(&mut refs, 0, bounds, centroids, 0);
+    let tree = ctx.subtree(&mut refs, 0, bounds, centroids, 0, &mut BinScratch::new());
     // Flatten depth first: a node's children pair, then the left subtree, then the right.
-    let mut pairs = vec![NodePair([Node::EMPTY; 2])];
+    let mut pairs = Vec::with_capacity(1 + tree.inner_nodes());
+    pairs.push(NodePair([Node::EMPTY; 2]));
     pairs[0].0[0] = emit(&tree, &mut pairs);
     Built {
         pairs,
@@ -213,7 +208,19 @@ enum Temp {
         bounds: Aabb,
         axis: u32,
         children: Box<[Temp; 2]>,
+        /// Inner nodes in this subtree, itself included: the node pairs it needs.
+        inner_nodes: usize,
     },
+}
+
+impl Temp {
+    /// Inner nodes in this subtree.
+    fn inner_nodes(&self) -> usize {
+        match self {
+            Temp::Leaf { .. } => 0,
+            Temp::Inner { inner_nodes, .. } => *inner_nodes,
+        }
+    }
 }
 
 /// Write `t`'s subtree into `pairs`, returning the node for `t` itself.
@@ -224,6 +231,7 @@ fn emit(t: &Temp, pairs: &mut Vec<NodePair>) -> Node {
             bounds,
             axis,
             children,
+            ..
         } => {
             let pair = pairs.len();
             pairs.push(NodePair([Node::EMPTY; 2]));
@@ -240,6 +248,9 @@ struct Split {
     axis: usize,
     last_left: usize,
     cost: f32,
+    /// The boxes of the two sides: the unions of their bins' boxes, which are
+    /// the unions of their primitives' boxes.
+    boxes: [Box3; 2],
 }
 
 /// One SAH bin: the primitives whose centroids fall in it. 48 bytes.
@@ -264,6 +275,25 @@ impl Bin {
     }
 }
 
+/// The bins of one node's split search, kept from node to node so that each
+/// clears only the bins it uses: most nodes are small and use few of them.
+/// 6 KB.
+struct BinScratch {
+    /// Per axis, the primitives of each bin.
+    bins: [[Bin; MAX_BINS]; 3],
+    /// Bins `i..` of one axis together, for the sweep.
+    right: [Bin; MAX_BINS],
+}
+
+impl BinScratch {
+    fn new() -> Self {
+        Self {
+            bins: [[Bin::EMPTY; MAX_BINS]; 3],
+            right: [Bin::EMPTY; MAX_BINS],
+        }
+    }
+}
+
 /// The builder's settings.
 struct Context {
     bins: usize,
@@ -272,6 +302,10 @@ struct Context {
     c_isect: f32,
     /// Primitives per leaf test.
     block: usize,
+    /// `log2(block)` when `block` is a power of two (always, by default): the
+    /// sweeps price two splits per bin boundary, and a shift is a cycle where
+    /// a division is tens.
+    block_shift: Option<u32>,
 }
 
 /// How a node's primitives are divided between its children.
@@ -284,15 +318,38 @@ struct Division {
 }
 
 impl Context {
+    fn new(options: &BuildOptions) -> Self {
+        let block = options.block_size.max(1);
+        Self {
+            bins: options.bins.clamp(2, MAX_BINS),
+            max_leaf: options.max_leaf_size.max(1),
+            c_trav: options.traversal_cost,
+            c_isect: options.intersection_cost,
+            block,
+            block_shift: block.is_power_of_two().then(|| block.trailing_zeros()),
+        }
+    }
+
     /// Leaf tests of `n` primitives: `⌈n / block⌉`.
-    #[inline]
+    #[inline(always)]
     fn tests(&self, n: usize) -> f32 {
-        n.div_ceil(self.block) as f32
+        match self.block_shift {
+            Some(shift) => ((n + self.block - 1) >> shift) as f32,
+            None => n.div_ceil(self.block) as f32,
+        }
     }
 
     /// Build the node holding `refs` (primitives `first..first + refs.len()` of
     /// the final order), whose box is `bounds` and centroid box `centroids`.
-    fn subtree(&self, refs: &mut [PrimRef], first: u32, bounds: Box3, centroids: Box3, depth: usize) -> Temp {
+    fn subtree(
+        &self,
+        refs: &mut [PrimRef],
+        first: u32,
+        bounds: Box3,
+        centroids: Box3,
+        depth: usize,
+        scratch: &mut BinScratch,
+    ) -> Temp {
         let n = refs.len();
         let leaf = Temp::Leaf {
             bounds: bounds.to_aabb(),
@@ -302,15 +359,22 @@ impl Context {
         if n <= 1 {
             return leaf;
         }
+        // A split costs at least C_trav (its children's term is not negative),
+        // so a node that may be a leaf and costs no more as one is a leaf
+        // without pricing any split: with the default costs, every node of up
+        // to `max_leaf` primitives, half of all the nodes the build visits.
+        let leaf_cost = self.c_isect * self.tests(n);
+        if n <= self.max_leaf && self.c_isect >= 0.0 && leaf_cost <= self.c_trav {
+            return leaf;
+        }
         // A node of few primitives gains nothing from more bins than it has
         // primitives, and the sweeps over bins are most of its build time.
         let bins = self.bins.min(n.max(4));
         let split = if depth < SAH_DEPTH_LIMIT {
-            self.best_split(refs, bins, &bounds, &centroids)
+            self.best_split(refs, bins, &bounds, &centroids, scratch)
         } else {
             None
         };
-        let leaf_cost = self.c_isect * self.tests(n);
         let division = match split {
             Some(s) if n > self.max_leaf || s.cost < leaf_cost => partition(refs, bins, &centroids, &s),
             _ if n <= self.max_leaf => return leaf,
@@ -319,29 +383,42 @@ impl Context {
         let mid = division.left_count;
         let [(lb, lc), (rb, rc)] = division.children;
         let (l, r) = refs.split_at_mut(mid);
-        let mut build_left = || self.subtree(l, first, lb, lc, depth + 1);
-        let mut build_right = || self.subtree(r, first + mid as u32, rb, rc, depth + 1);
+        let mut build_left = |scratch: &mut BinScratch| self.subtree(l, first, lb, lc, depth + 1, scratch);
+        let mut build_right =
+            |scratch: &mut BinScratch| self.subtree(r, first + mid as u32, rb, rc, depth + 1, scratch);
         let children = if n >= PARALLEL_MIN {
-            let (a, b) = rayon::join(build_left, build_right);
+            // The right half may run on another thread: it gets bins of its own.
+            let (a, b) = rayon::join(|| build_left(scratch), || build_right(&mut BinScratch::new()));
             [a, b]
         } else {
-            [build_left(), build_right()]
+            [build_left(scratch), build_right(scratch)]
         };
         Temp::Inner {
             bounds: bounds.to_aabb(),
             axis: division.axis as u32,
+            inner_nodes: 1 + children[0].inner_nodes() + children[1].inner_nodes(),
             children: Box::new(children),
         }
     }
 
     /// The cheapest SAH split over all axes and bin boundaries, if any separates the primitives.
-    fn best_split(&self, refs: &[PrimRef], n_bins: usize, bounds: &Box3, centroids: &Box3) -> Option<Split> {
+    fn best_split(
+        &self,
+        refs: &[PrimRef],
+        n_bins: usize,
+        bounds: &Box3,
+        centroids: &Box3,
+        scratch: &mut BinScratch,
+    ) -> Option<Split> {
         let scale = bin_scales(n_bins, centroids);
         if scale == Vec3A::ZERO {
             return None;
         }
         // Fill the bins of all three axes in one pass over the primitives.
-        let mut bins = [[Bin::EMPTY; MAX_BINS]; 3];
+        let BinScratch { bins, right } = scratch;
+        for axis_bins in bins.iter_mut() {
+            axis_bins[..n_bins].fill(Bin::EMPTY);
+        }
         for r in refs.iter() {
             let k = bins_of(n_bins, r.centroid(), centroids.min, scale);
             for axis in 0..3 {
@@ -358,9 +435,10 @@ impl Context {
             }
             let bins = &bins[..n_bins];
             // Right-to-left sweep: the box and count of bins `i..`.
-            let mut right = [Bin::EMPTY; MAX_BINS];
+            let mut acc = Bin::EMPTY;
             for i in (1..bins.len()).rev() {
-                right[i] = bins[i].add(&right.get(i + 1).copied().unwrap_or(Bin::EMPTY));
+                acc = acc.add(&bins[i]);
+                right[i] = acc;
             }
             // Left-to-right sweep, pricing the boundary after bin `i`.
             let mut left = Bin::EMPTY;
@@ -379,6 +457,7 @@ impl Context {
                         axis,
                         last_left: i,
                         cost,
+                        boxes: [left.bounds, r.bounds],
                     });
                 }
             }
@@ -388,13 +467,13 @@ impl Context {
 }
 
 /// Reorder `refs` so the primitives left of split `s` come first, measuring
-/// both sides' boxes and centroid boxes on the way.
+/// both sides' centroid boxes on the way (their boxes come with the split).
 fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> Division {
     let scale = bin_scales(bins, centroids);
     let goes_left = |c: Vec3A| bins_of(bins, c, centroids.min, scale)[s.axis] <= s.last_left;
-    let mut sides = [(Box3::EMPTY, Box3::EMPTY); 2];
-    let mut add = |side: usize, r: &PrimRef, c: Vec3A| {
-        sides[side] = (sides[side].0.union(&r.bounds()), sides[side].1.grow(c));
+    let mut centroid_boxes = [Box3::EMPTY; 2];
+    let mut add = |side: usize, _: &PrimRef, c: Vec3A| {
+        centroid_boxes[side] = centroid_boxes[side].grow(c);
     };
     // Hoare's scheme: walk in from both ends and swap only misplaced pairs.
     let (mut i, mut j) = (0, refs.len());
@@ -428,7 +507,7 @@ fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> 
     Division {
         axis: s.axis,
         left_count: i,
-        children: sides,
+        children: [0, 1].map(|side| (s.boxes[side], centroid_boxes[side])),
     }
 }
 
@@ -499,17 +578,50 @@ mod tests {
                 axis: 0,
                 last_left: 2,
                 cost: 0.0,
+                boxes: [Box3::EMPTY; 2],
             },
         );
         // Centroids x = 0.5..99.5 in 10 bins of 9.9: bins 0..=2 hold x < 30.2, ids 0..=29.
         assert_eq!(d.left_count, 30);
         assert!(sorted[..30].iter().all(|r| r.id() < 30));
         assert!(sorted[30..].iter().all(|r| r.id() >= 30));
-        assert_eq!(d.children[0].0.max.x, 30.0);
-        assert_eq!(d.children[1].0.min.x, 30.0);
+        assert_eq!(d.children[0].1.max.x, 29.5);
+        assert_eq!(d.children[1].1.min.x, 30.5);
         assert_eq!(d.children[1].1.max.x, 99.5);
         let mut ids: Vec<u32> = sorted.iter().map(PrimRef::id).collect();
         ids.sort();
         assert_eq!(ids, (0..100).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn the_split_and_the_partition_measure_both_sides_exactly() {
+        // Random boxes; the chosen split's boxes and the partition's centroid
+        // boxes must be those of the primitives each side gets.
+        let mut rng = crate::rng::Rng::new(3);
+        let refs: Vec<PrimRef> = (0..1000)
+            .map(|i| {
+                let p = Vec3A::from(rng.point_in(Vec3::ZERO, Vec3::splat(10.0)));
+                let e = Vec3A::from(rng.point_in(Vec3::ZERO, Vec3::ONE));
+                PrimRef::new(Box3::new(p, p + e), i)
+            })
+            .collect();
+        let measure = |rs: &[PrimRef]| {
+            rs.iter().fold((Box3::EMPTY, Box3::EMPTY), |(b, c), r| {
+                (b.union(&r.bounds()), c.grow(r.centroid()))
+            })
+        };
+        let (bounds, centroids) = measure(&refs);
+        let ctx = Context::new(&BuildOptions::default());
+        let split = ctx
+            .best_split(&refs, 16, &bounds, &centroids, &mut BinScratch::new())
+            .expect("random boxes can be split");
+        let mut sorted = refs.clone();
+        let d = partition(&mut sorted, 16, &centroids, &split);
+        assert!(d.left_count > 0 && d.left_count < refs.len());
+        let same = |a: (Box3, Box3), b: (Box3, Box3)| {
+            [a.0.min, a.0.max, a.1.min, a.1.max] == [b.0.min, b.0.max, b.1.min, b.1.max]
+        };
+        assert!(same(d.children[0], measure(&sorted[..d.left_count])));
+        assert!(same(d.children[1], measure(&sorted[d.left_count..])));
     }
 }

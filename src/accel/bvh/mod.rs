@@ -130,25 +130,34 @@ impl Bvh {
 
     /// Build over `prims`; a hit's primitive index is the position in `prims`.
     pub fn with_options(prims: &[Primitive], options: &BuildOptions) -> Self {
-        // The primitives' boxes, in parallel; then sort them into the tree's,
-        // the unbounded and the skipped.
+        // The primitives' boxes, in parallel, the empty box for one the tree
+        // cannot hold (not finite, or empty).
         let usable = |b: Aabb| b.min.is_finite() && b.max.is_finite() && !b.is_empty();
-        let all_boxes: Vec<Option<Aabb>> = prims
+        let mut boxes: Vec<Aabb> = prims
             .par_iter()
-            .map(|p| p.bounds().filter(|b| usable(*b)))
+            .map(|p| p.bounds().filter(|b| usable(*b)).unwrap_or(Aabb::EMPTY))
             .collect();
-        let mut boxes = Vec::with_capacity(prims.len());
-        let mut bounded_ids = Vec::with_capacity(prims.len());
-        let (mut unbounded_ids, mut skipped) = (Vec::new(), 0);
-        for (i, (p, b)) in prims.iter().zip(all_boxes).enumerate() {
-            match b {
-                Some(b) => {
-                    boxes.push(b);
-                    bounded_ids.push(i as u32);
+        // Where some cannot be held, sort the primitives into the tree's, the
+        // unbounded and the skipped; the tree's then have ids of their own.
+        // (Mostly all can: then a tree index is an input index.)
+        let (mut bounded_ids, mut unbounded_ids, mut skipped) = (None, Vec::new(), 0);
+        if boxes.par_iter().any(Aabb::is_empty) {
+            let mut ids = Vec::with_capacity(prims.len());
+            let mut kept = 0;
+            for (i, p) in prims.iter().enumerate() {
+                let b = boxes[i];
+                if !b.is_empty() {
+                    boxes[kept] = b;
+                    kept += 1;
+                    ids.push(i as u32);
+                } else if matches!(p, Primitive::Triangle(t) if t.is_degenerate()) {
+                    skipped += 1;
+                } else {
+                    unbounded_ids.push(i as u32);
                 }
-                _ if matches!(p, Primitive::Triangle(t) if t.is_degenerate()) => skipped += 1,
-                _ => unbounded_ids.push(i as u32),
             }
+            boxes.truncate(kept);
+            bounded_ids = Some(ids);
         }
         let (mut pairs, order) = if boxes.is_empty() {
             (vec![NodePair([Node::EMPTY; 2])], Vec::new())
@@ -164,7 +173,7 @@ impl Bvh {
             .collect();
         leaves.sort_unstable_by_key(|n| n.first);
         let input = |k: u32| {
-            let id = bounded_ids[k as usize];
+            let id = bounded_ids.as_ref().map_or(k, |ids| ids[k as usize]);
             (&prims[id as usize], id)
         };
         let mut store = LeafStore::build(&mut leaves, &order, input);
