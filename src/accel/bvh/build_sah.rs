@@ -167,18 +167,29 @@ struct PrimRef {
     upper: Vec4,
 }
 
+/// Added to an index to make the bits of a float of 1 or more (`1.0`'s bits;
+/// see [`PrimRef::bounds`]).
+const ID_BIAS: u32 = 0x3F80_0000;
+
 impl PrimRef {
     #[inline(always)]
     fn new(bounds: Box3, id: u32) -> Self {
         Self {
-            lower: bounds.min.extend(f32::from_bits(id)),
+            lower: bounds.min.extend(f32::from_bits(id.wrapping_add(ID_BIAS))),
             upper: bounds.max.extend(0.0),
         }
     }
 
-    /// The box, its fourth lanes cleared: the index's bits read as a float
-    /// are mostly subnormal, and arithmetic on subnormals takes a microcode
-    /// assist of a hundred cycles or more (the build ran 5× slower with them).
+    /// The box, fourth lanes aside. The compiler may still do arithmetic on
+    /// the whole of `lower`, index lane included, and fix the lanes up after
+    /// (it multiplies it by ½ for the centroid where nothing else needs the
+    /// box): neither that lane nor what is made of it may be subnormal, whose
+    /// arithmetic takes a microcode assist of a hundred cycles or more (the
+    /// build ran 3× slower with raw indices, and as slow with indices read as
+    /// the smallest normals, half of which is subnormal). Hence the index is
+    /// stored as the bits of a float of at least 1 ([`ID_BIAS`]), for indices
+    /// below 2³⁰; the next 2²³ read as infinities and NaNs (no assist either),
+    /// and beyond those a few are subnormal again: slower, never wrong.
     #[inline(always)]
     fn bounds(&self) -> Box3 {
         Box3::new(self.lower.truncate().into(), self.upper.truncate().into())
@@ -187,7 +198,7 @@ impl PrimRef {
     /// Index in the input boxes.
     #[inline(always)]
     fn id(&self) -> u32 {
-        self.lower.w.to_bits()
+        self.lower.w.to_bits().wrapping_sub(ID_BIAS)
     }
 
     #[inline(always)]
@@ -623,5 +634,18 @@ mod tests {
         };
         assert!(same(d.children[0], measure(&sorted[..d.left_count])));
         assert!(same(d.children[1], measure(&sorted[d.left_count..])));
+    }
+
+    #[test]
+    fn indices_ride_as_floats_far_from_subnormal() {
+        for id in [0, 1, 12345, 1 << 23, (1 << 24) + 7, (1 << 30) - 1] {
+            let r = PrimRef::new(Box3::new(Vec3A::ZERO, Vec3A::ONE), id);
+            assert_eq!(r.id(), id);
+            // The centroid's arithmetic (½ of it) must stay normal too.
+            let w = r.lower.w;
+            assert!(w >= 1.0 && (0.5 * w).is_normal(), "{id}: {w:e}");
+        }
+        let r = PrimRef::new(Box3::new(Vec3A::ZERO, Vec3A::ONE), u32::MAX);
+        assert_eq!(r.id(), u32::MAX);
     }
 }
