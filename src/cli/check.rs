@@ -102,6 +102,7 @@ mod with_embree {
     use super::{CheckArgs, RayChoice};
     use crate::atomic_file::AtomicFile;
     use crate::cli::args::{embree_scene, load_scene};
+    use crate::cli::stdout::outln;
     use crate::cli::{CliError, CliResult};
     use crate::compare::diff_image::diff_image;
     use crate::compare::{
@@ -253,12 +254,12 @@ mod with_embree {
                 },
                 "sets": reports,
             });
-            println!(
+            outln!(
                 "{}",
                 serde_json::to_string_pretty(&json).map_err(anyhow::Error::from)?
-            );
+            )?;
         } else {
-            print_report(&scene, &embree, &args, (width, height), &reports);
+            print_report(&scene, &embree, &args, (width, height), &reports)?;
         }
 
         let failing: Vec<String> = reports
@@ -288,20 +289,20 @@ mod with_embree {
         args: &CheckArgs,
         size: (u32, u32),
         reports: &[SetReport],
-    ) {
+    ) -> CliResult {
         let counts: Vec<String> = scene
             .counts()
             .iter()
             .map(|(k, n)| format!("{n} {k:?}").to_lowercase())
             .collect();
-        println!(
+        outln!(
             "scene    {} ({} primitives: {})",
             scene.source,
             scene.primitives.len(),
             counts.join(", ")
-        );
+        )?;
         let s = embree.stats();
-        println!(
+        outln!(
             "embree   {} \"{}\", {:?} mode: {} triangles ({} polygons ear-clipped), {} spheres, {} instances, {} user, {} empty",
             embree.device().version_string(),
             embree.device().config(),
@@ -312,53 +313,61 @@ mod with_embree {
             s.instances,
             s.user,
             s.empty
-        );
+        )?;
         let embree_call = match args.kernel {
             Kernel::Scalar => "rtcIntersect1",
             Kernel::Packet8 => "rtcIntersect8",
         };
-        println!(
+        outln!(
             "raypack  {}, {:?} kernel; Embree {embree_call}",
             args.accel.name(),
             args.kernel
-        );
+        )?;
         for r in reports {
             let g = &r.agreement;
             let what = match r.rays {
                 RaySet::Primary => format!("primary rays, {}x{} pixel centres", size.0, size.1),
                 RaySet::Random => format!("random rays, seed {}", args.seed),
             };
-            println!("\n{} {what}", r.count);
-            println!(
+            outln!("\n{} {what}", r.count)?;
+            outln!(
                 "  hit/miss agreement    {:>10.6}%   ({} both hit, {} both miss, {} only raypack, {} only embree)",
                 100.0 * r.hit_agreement,
                 g.same_primitive + g.ties + g.different_primitive,
                 g.both_miss,
                 g.only_a,
                 g.only_b
-            );
-            println!(
+            )?;
+            outln!(
                 "  same primitive        {:>10.6}%   ({:.6}% counting {} ties on shared edges/vertices and {} coincident surfaces)",
                 100.0 * r.primitive_agreement,
                 100.0 * r.primitive_agreement_with_ties,
                 g.ties,
                 g.coincident
-            );
+            )?;
             let c = &r.classes;
-            println!(
+            outln!(
                 "  disagreements         hit/miss {}, different primitive {}, same primitive t > {} ulps {}, edge/vertex ties {}, coincident {}",
-                c.hit_miss, c.different_primitive, args.max_ulps, c.t_beyond_ulps, c.edge_tie, c.coincident
-            );
-            println!(
+                c.hit_miss,
+                c.different_primitive,
+                args.max_ulps,
+                c.t_beyond_ulps,
+                c.edge_tie,
+                c.coincident
+            )?;
+            outln!(
                 "  relative t error      p50 {:.2e}  p99 {:.2e}  max {:.2e}  (over {} same-primitive hits)",
-                g.t_error.p50, g.t_error.p99, g.t_error.max, g.same_primitive
-            );
+                g.t_error.p50,
+                g.t_error.p99,
+                g.t_error.max,
+                g.same_primitive
+            )?;
             if !g.disagreements.is_empty() {
-                println!(
+                outln!(
                     "  first disagreements (ray #, kind, origin, direction, [tmin, tmax], raypack t/prim, embree t/prim):"
-                );
+                )?;
                 for d in &g.disagreements {
-                    println!(
+                    outln!(
                         "    #{:<8} {:<19} o=({:.9}, {:.9}, {:.9}) d=({:.9}, {:.9}, {:.9}) [{}, {}]  raypack {}/{}  embree {}/{}",
                         d.index,
                         format!("{:?}", d.kind),
@@ -374,9 +383,10 @@ mod with_embree {
                         d.a.1,
                         d.b.0,
                         d.b.1
-                    );
+                    )?;
                 }
             }
         }
+        Ok(())
     }
 }

@@ -5,6 +5,7 @@
 
 use crate::cli::CliResult;
 use crate::cli::args::environment;
+use crate::cli::stdout::outln;
 
 /// Options of `env`.
 #[derive(clap::Args, Debug)]
@@ -23,10 +24,10 @@ pub fn run(args: Args) -> CliResult {
     let env = environment(Some(&args.embree_config))?;
     if args.json {
         let text = serde_json::to_string_pretty(&env).map_err(anyhow::Error::from)?;
-        println!("{text}");
+        outln!("{text}")?;
     } else {
         for (name, value) in env.rows() {
-            println!("{name:<12} {value}");
+            outln!("{name:<12} {value}")?;
         }
     }
     Ok(())

@@ -4,7 +4,6 @@
 use std::io::{self, BufWriter};
 use std::path::PathBuf;
 
-use anyhow::anyhow;
 use clap::Args;
 
 use crate::atomic_file::AtomicFile;
@@ -40,7 +39,7 @@ pub fn run(args: GenArgs) -> CliResult {
             let stdout = BufWriter::new(io::stdout().lock());
             params
                 .write_nff(stdout)
-                .map_err(|e| CliError::Failed(anyhow!(e).context("cannot write to stdout")))?;
+                .map_err(crate::cli::stdout::write_error)?;
         }
         Some(path) => {
             AtomicFile::create(path)?.commit_with(|out| params.write_nff(out).map(drop))?;

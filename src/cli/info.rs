@@ -2,7 +2,6 @@
 //! kind, bounds, camera, lights, materials — and how long it took to load.
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -61,11 +60,7 @@ pub fn run(args: Args) -> CliResult {
     } else {
         text(&report)
     };
-    // A reader that stops early (`| head`) is not an error.
-    match std::io::stdout().lock().write_all(out.as_bytes()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(anyhow::Error::from(e).into()),
-        _ => Ok(()),
-    }
+    crate::cli::stdout::write_str(&out)
 }
 
 fn report(scene: &Scene, load_seconds: f64) -> Report<'_> {

@@ -9,6 +9,7 @@ mod info;
 pub mod render;
 mod report;
 mod stats;
+mod stdout;
 mod trace;
 
 use std::process::ExitCode;
@@ -80,6 +81,8 @@ pub fn main() -> ExitCode {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
+        // The reader stopped early (`| head`): nothing is wrong.
+        Err(CliError::StdoutClosed) => ExitCode::SUCCESS,
     }
 }
 
@@ -90,6 +93,9 @@ pub enum CliError {
     BadInput(anyhow::Error),
     /// Any other failure.
     Failed(anyhow::Error),
+    /// Stdout's reader is gone (`raypack … | head`): the command stops, and
+    /// exits 0 saying nothing.
+    StdoutClosed,
 }
 
 /// An output that cannot be written is the user's to fix (exit 2).

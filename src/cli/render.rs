@@ -9,6 +9,7 @@ use crate::accel::Accel;
 use crate::atomic_file::AtomicFile;
 use crate::camera::Camera;
 use crate::cli::args::{check_image_memory, load_scene, parse_size, scene_camera, thread_pool};
+use crate::cli::stdout::outln;
 use crate::cli::{CliError, CliResult};
 use crate::picture::annotate::annotate_render;
 use crate::picture::heat_map::{HeatMapKind, NoPixelCosts};
@@ -203,7 +204,7 @@ pub fn run(args: Args) -> CliResult {
         let json = serde_json::to_string_pretty(&report).map_err(anyhow::Error::from)?;
         file.commit(json.as_bytes())?;
     }
-    println!(
+    outln!(
         "wrote {} ({}x{} {}, {} {}, {} threads): trace {:.1} ms, {:.2} Mrays/s, {} rays",
         args.output.display(),
         report.width,
@@ -215,6 +216,6 @@ pub fn run(args: Args) -> CliResult {
         report.trace_ms,
         report.mrays_per_s,
         report.rays_total
-    );
+    )?;
     Ok(())
 }

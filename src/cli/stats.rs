@@ -11,6 +11,7 @@ use clap::Args as ClapArgs;
 
 use crate::accel::{Accel, TraversalStats};
 use crate::cli::args::{load_scene, thread_pool};
+use crate::cli::stdout::{out, outln};
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, WithAccel, with_accel};
 use crate::render::spd::spd_counts_with_traversal;
@@ -92,8 +93,8 @@ pub fn run(args: Args) -> CliResult {
         eprintln!("spd: traversal, counted in this run: {}", t.caption());
     }
     match published {
-        Some(p) => print!("{}", spd_published::table(p, &p.compare(&counts))),
-        None => println!("{}", serde_json::to_string(&counts).map_err(anyhow::Error::from)?),
+        Some(p) => out!("{}", spd_published::table(p, &p.compare(&counts)))?,
+        None => outln!("{}", serde_json::to_string(&counts).map_err(anyhow::Error::from)?)?,
     }
     Ok(())
 }

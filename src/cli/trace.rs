@@ -11,6 +11,7 @@ use clap::Args;
 use crate::accel::AccelKind;
 use crate::atomic_file::AtomicFile;
 use crate::cli::args::load_scene;
+use crate::cli::stdout::outln;
 use crate::cli::{CliError, CliResult};
 use crate::compare::csv::{format_hits, read_hits, read_rays};
 use crate::compare::diff_image::class_name;
@@ -93,18 +94,18 @@ pub fn run(args: TraceArgs) -> CliResult {
         args.out.display()
     );
     if let Some(theirs) = theirs {
-        print_diff(&scene, &rays, &hits, &theirs, &args);
+        print_diff(&scene, &rays, &hits, &theirs, &args)?;
     }
     Ok(())
 }
 
 /// The classes of the rays on which `ours` and `theirs` differ, counted.
-fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &TraceArgs) {
+fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &TraceArgs) -> CliResult {
     let options = AgreementOptions::default();
     let classes = classify_rays(&scene.primitives, rays, ours, theirs, &options);
     let agreement = Agreement::from_classes(rays, ours, theirs, &classes, options.keep);
     let (a, b) = (args.engine.name(), "the --diff file");
-    println!(
+    outln!(
         "{} compared with {}: {} both miss, {} same primitive",
         plural::count(rays.len() as u64, "ray", "rays"),
         args.diff
@@ -112,7 +113,7 @@ fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &
             .map_or(String::new(), |p| p.display().to_string()),
         agreement.both_miss,
         agreement.same_primitive
-    );
+    )?;
     for (kind, n) in [
         (DisagreementKind::OnlyA, agreement.only_a),
         (DisagreementKind::OnlyB, agreement.only_b),
@@ -124,8 +125,9 @@ fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &
         (DisagreementKind::Coincident, agreement.coincident),
         (DisagreementKind::TBeyondUlps, agreement.t_beyond_ulps),
     ] {
-        println!("  {:<40} {n}", class_name(kind, a, b, options.max_ulps));
+        outln!("  {:<40} {n}", class_name(kind, a, b, options.max_ulps))?;
     }
+    Ok(())
 }
 
 #[cfg(feature = "embree")]

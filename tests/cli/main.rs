@@ -7,6 +7,7 @@ mod support;
 
 mod bench_scene;
 mod bench_traversal;
+mod closed_stdout;
 mod info;
 mod render;
 mod report;

@@ -8,6 +8,7 @@ use clap::Args;
 use crate::bench::kernels::{KernelRow, Measure, for_each_setup};
 use crate::cli::CliResult;
 use crate::cli::bench::{Output, Run, figure};
+use crate::cli::stdout::outln;
 
 /// Options of `bench kernels`.
 #[derive(Args, Debug)]
@@ -41,22 +42,28 @@ pub fn run(args: KernelsArgs) -> CliResult {
     for_each_setup(args.rays.max(1), args.seed, &mut measure);
     let figures = measure.rows.iter().flat_map(KernelRow::figures).collect();
     run.finish(measure.rows, figures, None, |rows| {
-        print_table(rows);
-        println!(
+        print_table(rows)?;
+        outln!(
             "({} rays per primitive, {} samples of {} ms per variant after a warm-up, interleaved, one thread)",
             args.rays, args.rounds, args.sample_ms
-        );
+        )
     })
 }
 
-fn print_table(rows: &[KernelRow]) {
-    println!(
+fn print_table(rows: &[KernelRow]) -> CliResult {
+    outln!(
         "{:<20} {:>17} {:>17} {:>13} {:>17} {:>17} {:>6}",
-        "primitive", "scalar Mtests/s", "packet8 Mtests/s", "ratio", "packet4", "packet16", "hits"
-    );
+        "primitive",
+        "scalar Mtests/s",
+        "packet8 Mtests/s",
+        "ratio",
+        "packet4",
+        "packet16",
+        "hits"
+    )?;
     let mega = |s: crate::statistics::Summary| figure(&s.scaled(1e-6), 1, "");
     for r in rows {
-        println!(
+        outln!(
             "{:<20} {:>17} {:>17} {:>13} {:>17} {:>17} {:>5.0}%",
             r.primitive,
             mega(r.scalar_per_s),
@@ -65,6 +72,7 @@ fn print_table(rows: &[KernelRow]) {
             mega(r.packet4_per_s),
             mega(r.packet16_per_s),
             100.0 * r.hit_rate
-        );
+        )?;
     }
+    Ok(())
 }

@@ -16,6 +16,7 @@ use crate::bench::figure::Figure;
 use crate::bench::result::{BenchResult, StoredResult};
 use crate::bench::slowdown::Slowdown;
 use crate::cli::args::environment;
+use crate::cli::stdout::outln;
 use crate::cli::{CliError, CliResult};
 use crate::statistics::Summary;
 
@@ -102,7 +103,7 @@ impl<'a> Run<'a> {
         rows: Vec<R>,
         figures: Vec<Figure>,
         embree_config: Option<&str>,
-        table: impl FnOnce(&[R]),
+        table: impl FnOnce(&[R]) -> CliResult,
     ) -> CliResult {
         let mut result = BenchResult {
             command: self.command.to_string(),
@@ -130,20 +131,23 @@ impl<'a> Run<'a> {
         }
         if self.output.json {
             let text = serde_json::to_string_pretty(&stored).map_err(anyhow::Error::from)?;
-            println!("{text}");
+            outln!("{text}")?;
             return Ok(());
         }
-        table(&result.rows);
+        table(&result.rows)?;
         if result.figures.iter().any(|f| f.summary.noisy) {
-            println!("{NOISY_NOTE}");
+            outln!("{NOISY_NOTE}")?;
         }
         let env = &result.environment;
-        println!(
+        outln!(
             "(measured on {}, {} threads, commit {}, {}; `raypack env` for the rest)",
-            env.cpu_model, env.threads, env.git_commit, env.date
-        );
+            env.cpu_model,
+            env.threads,
+            env.git_commit,
+            env.date
+        )?;
         if let Some(c) = &result.comparison {
-            print_comparison(c);
+            print_comparison(c)?;
         }
         Ok(())
     }
@@ -162,17 +166,17 @@ pub fn figure(s: &Summary, digits: usize, unit: &str) -> String {
 }
 
 /// The comparison with a baseline, one line per figure.
-fn print_comparison(c: &Comparison) {
-    println!(
+fn print_comparison(c: &Comparison) -> CliResult {
+    outln!(
         "against baseline {} (commit {}, {}); a change counts when its interval lies beyond ±{}%:",
         c.baseline,
         c.baseline_commit,
         c.baseline_date,
         100.0 * c.noise_threshold
-    );
+    )?;
     let width = c.changes.iter().map(|x| x.key.len()).max().unwrap_or(0);
     for x in &c.changes {
-        println!(
+        outln!(
             "  {:<width$} {:>12.4} -> {:>12.4} {:>+7.1}% [{:+.1}%, {:+.1}%] {}{}",
             x.key,
             x.baseline,
@@ -186,14 +190,14 @@ fn print_comparison(c: &Comparison) {
             } else {
                 ""
             }
-        );
+        )?;
     }
     let unchanged = c
         .changes
         .iter()
         .filter(|x| x.verdict == Verdict::NoChange)
         .count();
-    println!(
+    outln!(
         "  {unchanged} of {} figures without significant change{}",
         c.changes.len(),
         if c.unmatched.is_empty() {
@@ -201,5 +205,6 @@ fn print_comparison(c: &Comparison) {
         } else {
             format!("; {} figures in only one of the runs", c.unmatched.len())
         }
-    );
+    )?;
+    Ok(())
 }

@@ -12,6 +12,7 @@ use crate::bench::slowdown::Slowdown;
 use crate::bench::traversal::scene_bounds;
 use crate::cli::args::{load_scene, parse_size, scene_camera};
 use crate::cli::bench::{Output, Run, figure};
+use crate::cli::stdout::outln;
 use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, KernelKind};
@@ -351,7 +352,7 @@ pub fn run(args: SceneArgs) -> CliResult {
         .contains(&Engine::Embree)
         .then_some(crate::engine::DEFAULT_EMBREE_CONFIG);
     run.finish(rows, figures, embree, |rows| {
-        println!(
+        outln!(
             "{}: {} primitives, {}x{} primary rays through pixel centres (other kinds from their hits), \
              accel {}, {}px tiles, {} runs per variant after a warm-up, interleaved",
             name,
@@ -361,8 +362,8 @@ pub fn run(args: SceneArgs) -> CliResult {
             args.accel.name(),
             args.tile,
             args.runs
-        );
-        print_table(rows);
+        )?;
+        print_table(rows)
     })
 }
 
@@ -402,8 +403,8 @@ fn ratios(m: &Measured, all: &[Measured]) -> Result<(Summary, Summary, Option<Su
     Ok((over(first)?, over(fewest)?, embree.map(over).transpose()?))
 }
 
-fn print_table(rows: &[SceneRow]) {
-    println!(
+fn print_table(rows: &[SceneRow]) -> CliResult {
+    outln!(
         "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9} {:>15} {:>15} {:>15}",
         "rays",
         "engine",
@@ -415,10 +416,10 @@ fn print_table(rows: &[SceneRow]) {
         "vs first",
         "vs fewest t",
         "vs embree"
-    );
+    )?;
     for r in rows {
         let vs_embree = r.vs_embree.map_or(String::new(), |x| figure(&x, 2, "x"));
-        println!(
+        outln!(
             "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9.2} {:>15} {:>15} {:>15}",
             r.rays_kind,
             r.engine,
@@ -430,6 +431,7 @@ fn print_table(rows: &[SceneRow]) {
             figure(&r.ratio, 2, "x"),
             figure(&r.vs_fewest_threads, 2, "x"),
             vs_embree
-        );
+        )?;
     }
+    Ok(())
 }

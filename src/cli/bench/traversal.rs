@@ -8,6 +8,7 @@ use crate::bench::traversal::EngineVariant;
 use crate::bench::traversal::{Builder, TraversalRow, TraversalSetup, measure, scene_bounds};
 use crate::cli::args::{load_scene, parse_size};
 use crate::cli::bench::{Output, Run, figure};
+use crate::cli::stdout::outln;
 use crate::cli::{CliError, CliResult};
 use crate::engine::{EmbreeIsa, Engine};
 use crate::scene::generate::random::framing_camera;
@@ -123,27 +124,27 @@ pub fn run(args: TraversalArgs) -> CliResult {
                 .filter(|r| r.threads == threads.max(1))
                 .cloned()
                 .collect();
-            print_traversal(&of_threads);
+            print_traversal(&of_threads)?;
         }
-        println!(
+        outln!(
             "({} rounds after a warm-up, scenes, engines, ray kinds and variants interleaved round by \
              round; ratios from the rounds paired; random rays: {} from the scene box, uniform directions; \
              secondary rays from the primary hits; transparent huge pages: {})",
             args.rounds,
             args.random,
             crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
-        );
+        )
     })
 }
 
 /// The rows of one thread count as a table, then each engine's growth of time
 /// per ray from the first scene, then raypack's speed over Embree's per scene.
-fn print_traversal(rows: &[TraversalRow]) {
+fn print_traversal(rows: &[TraversalRow]) -> CliResult {
     for row in rows {
         let sah = row
             .sah_cost
             .map_or(String::new(), |c| format!("  SAH cost {c:.1}"));
-        println!(
+        outln!(
             "{:<14} {:>8} prims {:<7} {}t  build {} ms{sah}  primary rays {}x{}",
             row.scene,
             row.primitives,
@@ -152,13 +153,13 @@ fn print_traversal(rows: &[TraversalRow]) {
             figure(&row.build_ms, 1, ""),
             row.resolution.0,
             row.resolution.1,
-        );
+        )?;
         for k in &row.kinds {
             let counts = match (&k.single_stats, &k.packet_stats) {
                 (Some(s), Some(p)) => format!("  [single {}; packet {}]", s.caption(), p.caption()),
                 _ => String::new(),
             };
-            println!(
+            outln!(
                 "  {:<8} {:>8} rays {:>5.1}% hit: single {:>15} packet8 {:>15} Mrays/s ({}){counts}",
                 k.kind.name(),
                 k.rays,
@@ -166,7 +167,7 @@ fn print_traversal(rows: &[TraversalRow]) {
                 figure(&k.single_mrays, 2, ""),
                 figure(&k.packet_mrays, 2, ""),
                 figure(&k.packet_vs_single, 2, "x"),
-            );
+            )?;
         }
     }
     let mut variants: Vec<EngineVariant> = Vec::new();
@@ -187,30 +188,30 @@ fn print_traversal(rows: &[TraversalRow]) {
                         format!("{} single {single} packet8 {packet}", k.kind.name())
                     })
                     .collect();
-                println!(
+                outln!(
                     "time per ray, {}, {} -> {} ({}t, same rounds): {}",
                     variant.name(),
                     first.scene,
                     row.scene,
                     row.threads,
                     kinds.join(", "),
-                );
+                )?;
             }
         }
     }
-    print_growth_against_embree(rows);
+    print_growth_against_embree(rows)?;
     for ours in rows.iter().filter(|r| r.engine == Engine::Raypack) {
         let theirs = embree_rows(rows, &ours.scene);
         let Some(fastest_build) = theirs.iter().map(|r| r.build_ms.median).reduce(f64::min) else {
             continue;
         };
-        println!(
+        outln!(
             "raypack / Embree, {} ({}t, same rounds): build time {:.2}x by medians against Embree's faster setting (both on {}t)",
             ours.scene,
             ours.threads,
             ours.build_ms.median / fastest_build,
             ours.threads,
-        );
+        )?;
         for (k, a) in ours.kinds.iter().enumerate() {
             let ratios: Vec<String> = theirs
                 .iter()
@@ -233,14 +234,15 @@ fn print_traversal(rows: &[TraversalRow]) {
                 )
             });
             let ((best_a, path_a), (best_b, path_b)) = (a.best(), best_embree(&theirs, k));
-            println!(
+            outln!(
                 "  {:<8} Mrays/s {}{paired}; best by medians {:.2}x (raypack {path_a} {best_a:.2} vs {path_b} {best_b:.2})",
                 a.kind.name(),
                 ratios.join("; "),
                 best_a / best_b,
-            );
+            )?;
         }
     }
+    Ok(())
 }
 
 /// Embree's rows on `scene`, one per ISA setting measured.
@@ -265,12 +267,14 @@ fn best_embree(rows: &[&TraversalRow], k: usize) -> (f64, String) {
 /// or packets, whichever is faster on each scene by medians; for Embree also
 /// the faster of its ISA settings) grows from the first scene to each later
 /// one, raypack's growth beside Embree's.
-fn print_growth_against_embree(rows: &[TraversalRow]) {
+fn print_growth_against_embree(rows: &[TraversalRow]) -> CliResult {
     let ours: Vec<&TraversalRow> = rows.iter().filter(|r| r.engine == Engine::Raypack).collect();
-    let Some(our_first) = ours.first() else { return };
+    let Some(our_first) = ours.first() else {
+        return Ok(());
+    };
     let their_first = embree_rows(rows, &our_first.scene);
     if their_first.is_empty() {
-        return;
+        return Ok(());
     }
     for our_row in ours.iter().skip(1) {
         let theirs = embree_rows(rows, &our_row.scene);
@@ -288,12 +292,13 @@ fn print_growth_against_embree(rows: &[TraversalRow]) {
                 )
             })
             .collect();
-        println!(
+        outln!(
             "growth of time per ray (best path), raypack vs Embree, {} -> {} ({}t): {}",
             our_first.scene,
             our_row.scene,
             our_row.threads,
             kinds.join(", ")
-        );
+        )?;
     }
+    Ok(())
 }
