@@ -483,7 +483,7 @@ fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> 
     let scale = bin_scales(bins, centroids);
     let goes_left = |c: Vec3A| bins_of(bins, c, centroids.min, scale)[s.axis] <= s.last_left;
     let mut centroid_boxes = [Box3::EMPTY; 2];
-    let mut add = |side: usize, _: &PrimRef, c: Vec3A| {
+    let mut add = |side: usize, c: Vec3A| {
         centroid_boxes[side] = centroid_boxes[side].grow(c);
     };
     // Hoare's scheme: walk in from both ends and swap only misplaced pairs.
@@ -494,7 +494,7 @@ fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> 
             if !goes_left(c) {
                 break;
             }
-            add(0, &refs[i], c);
+            add(0, c);
             i += 1;
         }
         while i < j {
@@ -502,15 +502,15 @@ fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> 
             if goes_left(c) {
                 break;
             }
-            add(1, &refs[j - 1], c);
+            add(1, c);
             j -= 1;
         }
         if i == j {
             break;
         }
         // refs[i] belongs right and refs[j − 1] left, so they are two elements.
-        add(1, &refs[i], refs[i].centroid());
-        add(0, &refs[j - 1], refs[j - 1].centroid());
+        add(1, refs[i].centroid());
+        add(0, refs[j - 1].centroid());
         refs.swap(i, j - 1);
         i += 1;
         j -= 1;
