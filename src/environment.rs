@@ -12,6 +12,8 @@ use std::time::{SystemTime, UNIX_EPOCH};
 
 use serde::{Deserialize, Serialize};
 
+use crate::simd::Isa;
+
 /// The ISA extensions raypack's kernels care about, by `target_feature` name.
 pub const ISA_FEATURES: [&str; 5] = ["sse4.2", "avx", "avx2", "fma", "avx512f"];
 
@@ -37,6 +39,11 @@ pub struct Environment {
     pub isa_build: Vec<String>,
     /// ISA extensions of [`ISA_FEATURES`] the CPU has.
     pub isa_cpu: Vec<String>,
+    /// The instruction set raypack's BVH queries ran on
+    /// ([`Isa::default_level`]: the best the CPU has, or `--isa`); empty in
+    /// results stored before it was recorded.
+    #[serde(default)]
+    pub isa: String,
     /// Transparent huge pages: the selected mode (`always`, `madvise`, `never`) or "unavailable".
     pub thp: String,
     /// Target architecture and operating system.
@@ -71,6 +78,7 @@ impl Environment {
             physical_cores: physical_cores(&cpuinfo),
             isa_build: isa_build(),
             isa_cpu: isa_cpu(),
+            isa: Isa::default_level().name().to_string(),
             thp: thp
                 .as_deref()
                 .and_then(thp_mode)
@@ -99,6 +107,11 @@ impl Environment {
         }
     }
 
+    /// The kernels' instruction set, "unknown" where not recorded.
+    pub fn isa_label(&self) -> &str {
+        if self.isa.is_empty() { "unknown" } else { &self.isa }
+    }
+
     /// Name and value of each field, for a text table.
     pub fn rows(&self) -> Vec<(&'static str, String)> {
         let list = |v: &[String]| {
@@ -117,6 +130,7 @@ impl Environment {
             ),
             ("isa (build)", list(&self.isa_build)),
             ("isa (cpu)", list(&self.isa_cpu)),
+            ("isa (kernels)", self.isa_label().to_string()),
             ("thp", self.thp.clone()),
             ("target", self.target.clone()),
             ("rustc", self.rustc.clone()),
@@ -279,6 +293,7 @@ processor\t: 2\nmodel name\t: AMD EPYC 9B45\nphysical id\t: 0\ncore id\t\t: 1\n"
             "cpu_model",
             "isa_build",
             "isa_cpu",
+            "isa",
             "thp",
             "rustc",
             "profile",

@@ -11,6 +11,7 @@ use crate::simd::{SimdFloat, SimdU32, V3};
 
 /// `F::LANES` rays, one per lane. For `f32x8`: 9 vectors of 32 bytes = 288 bytes.
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub struct RayPacket<F: SimdFloat> {
     /// Origins.
     pub origin: V3<F>,
@@ -72,6 +73,7 @@ impl<F: SimdFloat> RayPacket<F> {
     }
 
     /// The ray in lane `i`.
+    #[inline(always)]
     pub fn ray(&self, i: usize) -> Ray {
         Ray::new(
             self.origin.lane(i),
@@ -86,10 +88,26 @@ impl<F: SimdFloat> RayPacket<F> {
     pub fn is_active(&self, i: usize) -> bool {
         self.active.bitmask() >> i & 1 == 1
     }
+
+    /// The same packet in another lane type of the same width (another
+    /// instruction set's), bit for bit.
+    #[inline(always)]
+    pub fn convert<G: SimdFloat>(&self) -> RayPacket<G> {
+        // (A run-time check, folded away: callers match on the width, so
+        // their other arms name widths that never meet.)
+        assert_eq!(size_of::<F>(), size_of::<G>(), "packets of two widths");
+        // SAFETY: both are `repr(C)` structs of 9 lane vectors of one size
+        // (checked above), so their fields lie at the same offsets; `SimdFloat`
+        // types are plain lanes in lane order, any bit pattern valid. Copying
+        // the bytes from memory (rather than vector by vector through
+        // registers) keeps a wide store from feeding narrower loads.
+        unsafe { std::mem::transmute_copy(self) }
+    }
 }
 
 /// Hit records of a packet, one per lane. For `f32x8`: 7 vectors = 224 bytes.
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub struct HitPacket<F: SimdFloat> {
     /// Ray parameter of the nearest hit (`t_max` while nothing is hit).
     pub t: F,
@@ -104,8 +122,17 @@ pub struct HitPacket<F: SimdFloat> {
 }
 
 impl<F: SimdFloat> HitPacket<F> {
+    /// The same records in another lane type of the same width, bit for bit.
+    #[inline(always)]
+    pub fn convert<G: SimdFloat>(&self) -> HitPacket<G> {
+        assert_eq!(size_of::<F>(), size_of::<G>(), "packets of two widths");
+        assert_eq!(size_of::<F::U32>(), size_of::<G::U32>(), "packets of two widths");
+        // SAFETY: as in `RayPacket::convert`; the u32 vectors are plain lanes too.
+        unsafe { std::mem::transmute_copy(self) }
+    }
+
     /// Empty records for `rays`: nothing hit, `t = t_max`.
-    #[inline]
+    #[inline(always)]
     pub fn none(rays: &RayPacket<F>) -> Self {
         Self {
             t: rays.t_max,
@@ -160,12 +187,13 @@ impl<F: SimdFloat> HitPacket<F> {
     }
 
     /// The mask of lanes that hit something.
-    #[inline]
+    #[inline(always)]
     pub fn hit_mask(&self) -> F {
         self.prim.lt(F::U32::splat(NO_HIT))
     }
 
     /// The record of lane `i`.
+    #[inline(always)]
     pub fn hit(&self, i: usize) -> Hit {
         Hit {
             t: self.t.to_array().as_ref()[i],
@@ -178,7 +206,7 @@ impl<F: SimdFloat> HitPacket<F> {
 
     /// Overwrite the record of lane `i` (by blends, not through memory: a
     /// vector reloaded right after a scalar store into it stalls).
-    #[inline]
+    #[inline(always)]
     pub fn set_hit(&mut self, i: usize, hit: &Hit) {
         let lane = F::mask_from_bits(1 << i);
         self.t = lane.select(F::splat(hit.t), self.t);

@@ -49,6 +49,35 @@ pub trait Accel: Sync {
     /// The mask of active lanes on which something lies in `[t_min, t_max]`.
     fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F;
 
+    /// The nearest hits of the rays whose bit is set in `active`, one ray at
+    /// a time, into `hits` (the other records are left alone); ray `i`'s work
+    /// is reported after `stats.lane(i)`. The same answers as
+    /// [`intersect_counted`](Self::intersect_counted) ray by ray, in one call
+    /// (a BVH enters its instruction set's code once for all of them).
+    #[inline]
+    fn intersect_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
+        for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+            if active >> i & 1 == 1 {
+                stats.lane(i);
+                *hit = self.intersect_counted(ray, stats);
+            }
+        }
+    }
+
+    /// The mask of the rays whose bit is set in `active` that are blocked,
+    /// one ray at a time, as [`intersect_each_counted`](Self::intersect_each_counted).
+    #[inline]
+    fn occluded_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
+        let mut blocked = 0;
+        for (i, ray) in rays.iter().enumerate() {
+            if active >> i & 1 == 1 {
+                stats.lane(i);
+                blocked |= u32::from(self.occluded_counted(ray, stats)) << i;
+            }
+        }
+        blocked
+    }
+
     /// [`intersect_counted`](Self::intersect_counted), uncounted.
     #[inline]
     fn intersect(&self, ray: &Ray) -> Hit {

@@ -20,7 +20,8 @@ use crate::geometry::{Cone, Intersect, Polygon, Primitive, Sphere, Transformed, 
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::rng::Rng;
-use crate::simd::SimdFloat;
+use crate::simd::isa::{Level, LevelTask};
+use crate::simd::{Isa, SimdFloat};
 use crate::statistics::Summary;
 
 /// One shape and the rays it is measured on.
@@ -149,25 +150,61 @@ pub fn for_each_setup(n: usize, seed: u64, visitor: &mut impl SetupVisitor) {
 /// Run the scalar kernel over all rays once; returns a checksum so nothing is optimised away.
 #[inline(never)]
 pub fn run_scalar<K: Intersect>(kernel: &K, rays: &[Ray]) -> f32 {
-    let mut sum = 0.0;
-    for ray in rays {
-        let mut hit = Hit::none(ray);
-        kernel.intersect(ray, 0, &mut hit);
-        sum += hit.t;
+    struct Task<'a, K>(&'a K, &'a [Ray]);
+    impl<K: Intersect> LevelTask for Task<'_, K> {
+        type Output = f32;
+        #[inline(always)]
+        fn run<L: Level>(self) -> f32 {
+            let mut sum = 0.0;
+            for ray in self.1 {
+                let mut hit = Hit::none(ray);
+                self.0.intersect(ray, 0, &mut hit);
+                sum += hit.t;
+            }
+            sum
+        }
     }
-    sum
+    // SAFETY: the default level is one this CPU runs (`Isa::default_level`).
+    unsafe { Isa::default_level().run(Task(kernel, rays)) }
 }
 
-/// Run the packet kernel over all packets once; returns a checksum.
+/// Run the packet kernel over all packets once; returns a checksum. The
+/// kernel runs on the instruction set of [`Isa::default_level`], as BVH
+/// queries do (the packets are converted to its lane type one by one).
 #[inline(never)]
 pub fn run_packet<K: Intersect, F: SimdFloat>(kernel: &K, packets: &[RayPacket<F>]) -> f32 {
-    let mut sum = F::splat(0.0);
+    struct Task<'a, K, F: SimdFloat>(&'a K, &'a [RayPacket<F>]);
+    impl<K: Intersect, F: SimdFloat> LevelTask for Task<'_, K, F> {
+        type Output = f32;
+        #[inline(always)]
+        fn run<L: Level>(self) -> f32 {
+            match F::LANES {
+                4 => packet_loop::<K, F, L::F4>(self.0, self.1),
+                8 => packet_loop::<K, F, L::F8>(self.0, self.1),
+                16 => packet_loop::<K, F, L::F16>(self.0, self.1),
+                _ => packet_loop::<K, F, F>(self.0, self.1),
+            }
+        }
+    }
+    // SAFETY: the default level is one this CPU runs (`Isa::default_level`).
+    unsafe { Isa::default_level().run(Task(kernel, packets)) }
+}
+
+/// The loop of [`run_packet`] with the lanes of `G` (`F`'s width).
+#[inline(always)]
+fn packet_loop<K: Intersect, F: SimdFloat, G: SimdFloat>(kernel: &K, packets: &[RayPacket<F>]) -> f32 {
+    let mut sum = G::splat(0.0);
     for rays in packets {
-        let mut hits = HitPacket::none(rays);
-        kernel.intersect_packet(rays, 0, &mut hits);
+        let rays = rays.convert::<G>();
+        let mut hits = HitPacket::none(&rays);
+        kernel.intersect_packet(&rays, 0, &mut hits);
         sum = sum + hits.t;
     }
-    sum.to_array().as_ref().iter().sum()
+    let mut total = 0.0;
+    for &t in sum.to_array().as_ref() {
+        total += t;
+    }
+    total
 }
 
 /// One row of the kernel table: each variant's tests per second, and the

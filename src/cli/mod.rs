@@ -16,10 +16,16 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::simd::Isa;
+
 /// raypack: a CPU ray tracer built to be measured.
 #[derive(Parser, Debug)]
 #[command(name = "raypack", version, about)]
 pub struct Cli {
+    /// Instruction set of the BVH's kernels: auto (the best this CPU has),
+    /// portable, sse4.2, avx2 or avx512
+    #[arg(long, global = true, default_value = "auto", value_parser = clap::value_parser!(Isa))]
+    pub isa: Isa,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -56,6 +62,10 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 /// Parse the command line and run it.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = Isa::set_default(cli.isa) {
+        eprintln!("error: --isa {}: {e}", cli.isa);
+        return ExitCode::from(EXIT_BAD_INPUT);
+    }
     // A run stopped by Ctrl-C or `timeout` leaves no temporary output behind.
     if let Err(e) = crate::atomic_file::remove_temporaries_on_signals() {
         eprintln!("warning: cannot watch for signals ({e}): an interrupted run may leave a .tmp file");

@@ -219,7 +219,7 @@ impl Intersect for Cone {
     }
 
     /// Packet kernel: [`Cone::intersect`] on every active lane.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let r0 = rays.origin - V3::splat(self.base);
         let dw = rays.dir.dot_splat(self.w);
@@ -231,16 +231,11 @@ impl Intersect for Cone {
         let shift = (anchor - rays.origin).dot(rays.dir);
         // From the nearer end of the axis, lane by lane (see `nearer_end`).
         let from_apex = s.gt(F::splat(0.5 * self.height));
-        let pick = |apex: f32, base: f32| from_apex.select(F::splat(apex), F::splat(base));
-        let end = V3 {
-            x: pick(self.apex.x, self.base.x),
-            y: pick(self.apex.y, self.base.y),
-            z: pick(self.apex.z, self.base.z),
-        };
+        let end = V3::select(from_apex, V3::splat(self.apex), V3::splat(self.base));
         let (r_end, z_lo, z_hi) = (
-            pick(self.apex_radius, self.base_radius),
-            pick(-self.height, 0.0),
-            pick(0.0, self.height),
+            from_apex.select(F::splat(self.apex_radius), F::splat(self.base_radius)),
+            from_apex.select(F::splat(-self.height), F::splat(0.0)),
+            from_apex.select(F::splat(0.0), F::splat(self.height)),
         );
         let o = rays.origin + rays.dir.scale(shift) - end;
         let (ox, oy, oz) = (o.dot_splat(self.u), o.dot_splat(self.v), o.dot_splat(self.w));

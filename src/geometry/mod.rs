@@ -88,9 +88,24 @@ pub fn usable_denominators<F: SimdFloat>(denom: F) -> F {
 /// per shape and each lane bit for bit the scalar kernel; the packet kernels
 /// read single lanes in place.
 pub trait BlockIntersect {
-    /// One ray against every lane: records in `hit` what the scalar kernel run
-    /// over the lanes in any order would; true if any lane's hit was recorded.
-    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool;
+    /// The lane type the block stores its rows as.
+    type Lanes: SimdFloat;
+
+    /// One ray against every lane, computed with the vectors of `N` (any
+    /// instruction set's type of the block's width): records in `hit` what the
+    /// scalar kernel run over the lanes in any order would; true if any lane's
+    /// hit was recorded.
+    fn intersect_with<N: SimdFloat<Array = <Self::Lanes as SimdFloat>::Array>>(
+        &self,
+        ray: &Ray,
+        hit: &mut Hit,
+    ) -> bool;
+
+    /// [`intersect_with`](Self::intersect_with) the storage's own lane type.
+    #[inline(always)]
+    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
+        self.intersect_with::<Self::Lanes>(ray, hit)
+    }
 
     /// Primitive indices of the lanes.
     fn ids(&self) -> &[u32];
@@ -251,8 +266,46 @@ impl Intersect for Primitive {
     }
 
     /// Packet kernel.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
-        dispatch!(self, p => p.intersect_packet(rays, prim, hits))
+        match self {
+            Primitive::Transformed(t) => t.intersect_packet(rays, prim, hits),
+            _ => self.intersect_packet_object(rays, prim, hits),
+        }
     }
+}
+
+impl Primitive {
+    /// The packet kernel of a transformed primitive's object. All of it is
+    /// inlined (so it runs with the caller's instruction set, see
+    /// `accel::bvh::dispatch`) except a transform of a transform, whose
+    /// recursion goes through one call that is not.
+    #[inline(always)]
+    pub(crate) fn intersect_packet_object<F: SimdFloat>(
+        &self,
+        rays: &RayPacket<F>,
+        prim: u32,
+        hits: &mut HitPacket<F>,
+    ) {
+        match self {
+            Primitive::Sphere(p) => p.intersect_packet(rays, prim, hits),
+            Primitive::Plane(p) => p.intersect_packet(rays, prim, hits),
+            Primitive::Triangle(p) => p.intersect_packet(rays, prim, hits),
+            Primitive::Polygon(p) => p.intersect_packet(rays, prim, hits),
+            Primitive::Cone(p) => p.intersect_packet(rays, prim, hits),
+            Primitive::Transformed(t) => nested_transform_packet(t, rays, prim, hits),
+        }
+    }
+}
+
+/// The packet kernel of a transform nested in another: the one call of the
+/// packet kernels that is not inlined, which ends their recursion.
+#[inline(never)]
+fn nested_transform_packet<F: SimdFloat>(
+    t: &Transformed,
+    rays: &RayPacket<F>,
+    prim: u32,
+    hits: &mut HitPacket<F>,
+) {
+    t.intersect_packet(rays, prim, hits);
 }

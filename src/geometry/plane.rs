@@ -118,7 +118,7 @@ impl Intersect for Plane {
     }
 
     /// Packet kernel of whichever form this is.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         match self {
             Plane::Implicit(p) => p.intersect_packet(rays, prim, hits),
@@ -162,7 +162,7 @@ impl Intersect for ImplicitPlane {
     }
 
     /// Packet kernel.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let numerator = -(rays.origin.dot_splat(self.n) + F::splat(self.d));
         hit_plane_packet(self.n, numerator, rays, prim, hits);
@@ -177,7 +177,7 @@ impl Intersect for PointNormalPlane {
     }
 
     /// Packet kernel.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let numerator = (V3::splat(self.q0) - rays.origin).dot_splat(self.n);
         hit_plane_packet(self.n, numerator, rays, prim, hits);
@@ -206,7 +206,7 @@ impl Intersect for ParametricPlane {
     }
 
     /// Packet kernel.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let det = -rays.dir.dot_splat(self.n);
         let r = rays.origin - V3::splat(self.q);

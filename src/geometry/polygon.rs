@@ -159,7 +159,7 @@ impl Intersect for Polygon {
     }
 
     /// Packet kernel: every edge is tested against all lanes at once.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let denom = rays.dir.dot_splat(self.normal);
         let t = (F::splat(self.d) - rays.origin.dot_splat(self.normal)) / denom;

@@ -87,7 +87,7 @@ impl Intersect for Sphere {
     }
 
     /// Packet kernel: [`Sphere::intersect`] on every active lane.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         intersect_packet_lane(self, 0, rays, prim, hits);
     }
@@ -188,6 +188,8 @@ impl<F: SimdFloat> Spheres<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for Spheres<F> {
+    type Lanes = F;
+
     #[inline(always)]
     fn ids(&self) -> &[u32] {
         self.ids.as_ref()
@@ -197,27 +199,31 @@ impl<F: SimdFloat> BlockIntersect for Spheres<F> {
     /// lane, so each lane's t is bit for bit the scalar one): records in `hit`
     /// what the scalar kernel run over the lanes in any order would, and
     /// returns true if any lane's hit was recorded.
-    #[inline]
-    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
-        let [x, y, z] = self.center.map(F::from_array);
+    #[inline(always)]
+    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &Ray, hit: &mut Hit) -> bool {
+        let (x, y, z) = (
+            N::from_array(self.center[0]),
+            N::from_array(self.center[1]),
+            N::from_array(self.center[2]),
+        );
         let dir = V3::splat(ray.dir);
         // The scalar kernel's steps, in its order of operations (dots sum x, y, then z, as glam's).
         let oc = V3::splat(ray.origin) - V3 { x, y, z };
         let b = -oc.dot(dir);
         let l = oc + dir.scale(b);
-        let quarter_disc = F::from_array(self.radius_squared) - l.dot(l);
-        let crosses = quarter_disc.ge(F::splat(0.0));
+        let quarter_disc = N::from_array(self.radius_squared) - l.dot(l);
+        let crosses = quarter_disc.ge(N::splat(0.0));
         if crosses.none() {
             return false;
         }
         let s = quarter_disc.sqrt();
-        let inside_only = F::from_array(self.inside_only).ne(F::splat(0.0));
+        let inside_only = N::from_array(self.inside_only).ne(N::splat(0.0));
         let near = inside_only.select(b + s, b - s);
-        let t_min = F::splat(ray.t_min);
+        let t_min = N::splat(ray.t_min);
         let t = near.ge(t_min).select(near, b + s);
         // Lanes hit within [t_min, hit.t]; the record's own rule settles among them.
-        let candidates = crosses & t.ge(t_min) & t.le(F::splat(hit.t));
-        let zero = F::splat(0.0);
+        let candidates = crosses & t.ge(t_min) & t.le(N::splat(hit.t));
+        let zero = N::splat(0.0);
         hit.record_nearest_lane(candidates.bitmask(), t, zero, zero, self.ids(), ray.t_min)
     }
 }

@@ -161,7 +161,7 @@ impl Intersect for Transformed {
     }
 
     /// Packet kernel.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         let d = self.to_object.vector_packet(&rays.dir);
         let s = d.dot(d).sqrt();
@@ -182,7 +182,7 @@ impl Intersect for Transformed {
             prim: <F::U32 as crate::simd::SimdU32>::splat(NO_HIT),
             ..*hits
         };
-        self.object.intersect_packet(&local_rays, prim, &mut local);
+        self.object.intersect_packet_object(&local_rays, prim, &mut local);
         let t = local.t / s;
         let mask = local.hit_mask() & hits.accepts(rays, t, prim);
         hits.record(mask, t, prim, local.u, local.v);

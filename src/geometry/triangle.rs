@@ -229,7 +229,7 @@ impl Intersect for ProjectedTriangle {
     }
 
     /// Packet kernel: one triangle against every active lane.
-    #[inline]
+    #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
         intersect_packet_lane(self, 0, rays, prim, hits);
     }
@@ -351,6 +351,12 @@ pub struct ProjectedTriangles<F: SimdFloat> {
 impl<F: SimdFloat> ProjectedTriangles<F> {
     block_lanes!();
 
+    /// The row of constant `c`, in the lane type `N` of the block's width.
+    #[inline(always)]
+    fn row<N: SimdFloat<Array = F::Array>>(&self, c: Constant) -> N {
+        N::from_array(self.constants[c as usize])
+    }
+
     /// Lanes `0..tris.len()` hold `tris` (constants and primitive index), the rest nothing.
     ///
     /// # Panics
@@ -366,6 +372,8 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
 }
 
 impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
+    type Lanes = F;
+
     #[inline(always)]
     fn ids(&self) -> &[u32] {
         self.ids.as_ref()
@@ -375,36 +383,39 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
     /// lane, so each lane's t, β, γ are bit for bit the scalar ones): records
     /// in `hit` what the scalar kernel run over the lanes in any order would,
     /// and returns true if any lane's hit was recorded.
-    #[inline]
-    fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
-        let k = F::from_array(self.k);
-        // The rows, in `Constant` order.
-        let [n_u, n_v, n_d, a_u, a_v, b_nu, b_nv, c_nu, c_nv] = self.constants.map(F::from_array);
+    #[inline(always)]
+    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &Ray, hit: &mut Hit) -> bool {
+        // (No closures or array maps here: this is compiled into each
+        // instruction set's entry point only if everything inlines.)
+        let k = N::from_array(self.k);
+        let (n_u, n_v, n_d): (N, N, N) = (
+            self.row(Constant::Nu),
+            self.row(Constant::Nv),
+            self.row(Constant::Nd),
+        );
+        let (a_u, a_v): (N, N) = (self.row(Constant::Au), self.row(Constant::Av));
+        let (b_nu, b_nv): (N, N) = (self.row(Constant::BNu), self.row(Constant::BNv));
+        let (c_nu, c_nv): (N, N) = (self.row(Constant::CNu), self.row(Constant::CNv));
         // Each lane's ray components along its own axes k, ku, kv.
-        let (on_x, on_y) = (k.eq(F::splat(0.0)), k.eq(F::splat(1.0)));
-        let per_lane_axes = |v: Vec3| {
-            let [x, y, z] = v.to_array().map(F::splat);
-            let pick = |if_x: F, if_y: F, if_z: F| on_x.select(if_x, on_y.select(if_y, if_z));
-            (pick(x, y, z), pick(y, z, x), pick(z, x, y))
-        };
-        let (o_k, o_ku, o_kv) = per_lane_axes(ray.origin);
-        let (d_k, d_ku, d_kv) = per_lane_axes(ray.dir);
+        let (on_x, on_y) = (k.eq(N::splat(0.0)), k.eq(N::splat(1.0)));
+        let (o_k, o_ku, o_kv) = per_lane_axes(ray.origin, on_x, on_y);
+        let (d_k, d_ku, d_kv) = per_lane_axes(ray.dir, on_x, on_y);
         let denom = d_k + n_u * d_ku + n_v * d_kv;
         let t = (n_d - o_k - n_u * o_ku - n_v * o_kv) / denom;
         let hu = o_ku + t * d_ku - a_u;
         let hv = o_kv + t * d_kv - a_v;
         let beta = hu * b_nu + hv * b_nv;
         let gamma = hu * c_nu + hv * c_nv;
-        let low = F::splat(-EDGE_EPSILON);
+        let low = N::splat(-EDGE_EPSILON);
         // Lanes hit within [t_min, hit.t]; the record's own rule (ties, t < ∞)
         // settles among them.
-        let candidates = k.lt(F::splat(DEGENERATE as f32))
+        let candidates = k.lt(N::splat(DEGENERATE as f32))
             & usable_denominators(denom)
-            & t.ge(F::splat(ray.t_min))
-            & t.le(F::splat(hit.t))
+            & t.ge(N::splat(ray.t_min))
+            & t.le(N::splat(hit.t))
             & beta.ge(low)
             & gamma.ge(low)
-            & (beta + gamma).le(F::splat(1.0 + EDGE_EPSILON));
+            & (beta + gamma).le(N::splat(1.0 + EDGE_EPSILON));
         hit.record_nearest_lane(candidates.bitmask(), t, beta, gamma, self.ids(), ray.t_min)
     }
 }
@@ -419,6 +430,18 @@ impl<F: SimdFloat> TriangleConstants for ProjectedTriangles<F> {
     fn constant(&self, i: usize, c: Constant) -> f32 {
         self.constants[c as usize].as_ref()[i]
     }
+}
+
+/// Per lane, the components of `v` along the lane's own axes k, ku, kv, where
+/// `on_x` and `on_y` mark the lanes whose dropped axis k is x or y.
+#[inline(always)]
+fn per_lane_axes<N: SimdFloat>(v: Vec3, on_x: N, on_y: N) -> (N, N, N) {
+    let (x, y, z) = (N::splat(v.x), N::splat(v.y), N::splat(v.z));
+    (
+        on_x.select(x, on_y.select(y, z)),
+        on_x.select(y, on_y.select(z, x)),
+        on_x.select(z, on_y.select(x, y)),
+    )
 }
 
 /// The lecture's half-plane test, kept as the reference the projected test is

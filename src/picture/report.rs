@@ -12,6 +12,7 @@ use crate::picture::heat_map::HeatMapKind;
 use crate::render::engine::Engine;
 use crate::render::{Block, KernelKind, Mode, RayCounts, Render};
 use crate::scene::Scene;
+use crate::simd::Isa;
 
 /// Everything a reader needs to interpret a render's timing. 392 bytes plus
 /// its strings, map and per-tile figures.
@@ -31,6 +32,8 @@ pub struct RenderReport {
     pub kernel: KernelKind,
     /// Pixel block per packet.
     pub block: Block,
+    /// The instruction set raypack's kernels ran on (`--isa`).
+    pub isa: &'static str,
     /// Acceleration structure.
     pub accel: &'static str,
     /// Worker threads.
@@ -167,6 +170,7 @@ impl RenderReport {
             mode: info.mode,
             kernel: info.kernel,
             block: info.block,
+            isa: Isa::default_level().name(),
             accel: info.accel,
             threads: info.threads,
             tile_size: info.tile_size,
@@ -217,13 +221,14 @@ impl RenderReport {
         };
         vec![
             format!(
-                "{}  {}x{}  mode: {}  kernel: {} ({} blocks)  accel: {}  threads: {}  tiles: {}px",
+                "{}  {}x{}  mode: {}  kernel: {} ({} blocks, {})  accel: {}  threads: {}  tiles: {}px",
                 self.scene,
                 self.width,
                 self.height,
                 mode,
                 self.kernel.name(),
                 self.block.name(),
+                self.isa,
                 self.accel,
                 self.threads,
                 self.tile_size

@@ -2,7 +2,7 @@
 //! kernels, or as SIMD packets through the packet kernels.
 //!
 //! The renderer hands every query (primary, reflection, refraction, shadow) to a
-//! [`TraceKernel`] as a batch of [`BATCH`] rays with a lane mask, and shades the
+//! [`TraceKernel`] as a batch of [`BATCH`](crate::render::batch::BATCH) rays with a lane mask, and shades the
 //! results with the same scalar code whichever kernel traced them. Since the packet
 //! kernels agree with their scalar twins lane by lane, both kernels then produce
 //! the same hits, the same secondary rays and the same images.
@@ -18,7 +18,7 @@ use std::marker::PhantomData;
 use crate::accel::Accel;
 use crate::packet::RayPacket;
 use crate::ray::Hit;
-use crate::render::batch::{BATCH, Hits, Rays};
+use crate::render::batch::{Hits, Rays};
 use crate::render::counting::TileCounter;
 use crate::simd::{SimdFloat, SimdU32};
 
@@ -41,26 +41,17 @@ pub struct ScalarKernel;
 impl TraceKernel for ScalarKernel {
     #[inline]
     fn intersect<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> Hits {
-        std::array::from_fn(|i| {
-            if active >> i & 1 == 1 {
-                counter.batch_lanes(i);
-                accel.intersect_counted(&rays[i], counter)
-            } else {
-                Hit::none(&rays[i])
-            }
-        })
+        // Filled in place: the records are returned where the caller wants them.
+        let mut out: Hits = std::array::from_fn(|i| Hit::none(&rays[i]));
+        counter.batch_lanes(0);
+        accel.intersect_each_counted(rays, active, &mut out, counter);
+        out
     }
 
     #[inline]
     fn occluded<A: Accel, C: TileCounter>(accel: &A, rays: &Rays, active: u32, counter: &mut C) -> u32 {
-        (0..BATCH)
-            .filter(|&i| {
-                active >> i & 1 == 1 && {
-                    counter.batch_lanes(i);
-                    accel.occluded_counted(&rays[i], counter)
-                }
-            })
-            .fold(0, |mask, i| mask | 1 << i)
+        counter.batch_lanes(0);
+        accel.occluded_each_counted(rays, active, counter)
     }
 }
 
@@ -133,7 +124,7 @@ mod tests {
     use crate::accel::stats::NoStats;
     use crate::geometry::{Primitive, Sphere};
     use crate::ray::Ray;
-    use crate::render::batch::ALL_LANES;
+    use crate::render::batch::{ALL_LANES, BATCH};
     use crate::rng::Rng;
 
     fn cloud(rng: &mut Rng) -> Vec<Primitive> {

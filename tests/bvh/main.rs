@@ -9,4 +9,5 @@ mod agrees_with_brute_force;
 mod brute_force;
 mod degenerate;
 mod hostile_values;
+mod isa;
 mod stats;

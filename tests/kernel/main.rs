@@ -8,6 +8,7 @@ mod support;
 mod agreement;
 mod cone;
 mod edge_cases;
+mod isa;
 mod sphere_block;
 mod sphere_inside_only;
 mod triangle_block;

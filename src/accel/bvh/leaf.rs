@@ -36,11 +36,11 @@ pub type BlockLanes = NodeLanes;
 pub const BLOCK_SIZE: usize = BlockLanes::LANES;
 
 /// Up to [`BLOCK_SIZE`] of a leaf's triangles, tested by one ray at once. 384
-/// bytes for 8 lanes (six cache lines), 192 for 4.
+/// bytes (six cache lines).
 pub type TriangleBlock = ProjectedTriangles<BlockLanes>;
 
 /// Up to [`BLOCK_SIZE`] of a leaf's spheres, tested by one ray at once. 192
-/// bytes for 8 lanes, 128 for 4.
+/// bytes (three cache lines).
 pub type SphereBlock = Spheres<BlockLanes>;
 
 /// Marks a leaf of [`TriangleBlock`]s in its node's count word.
@@ -49,17 +49,16 @@ const TRIANGLE_BLOCKS: u32 = 1 << 30;
 /// Marks a leaf of [`SphereBlock`]s in its node's count word.
 const SPHERE_BLOCKS: u32 = 1 << 29;
 
-/// The first `count` lanes of `blocks` (every block full but the last), as (block, lane).
-#[inline(always)]
-pub fn block_lanes<B>(blocks: &[B], count: usize) -> impl Iterator<Item = (&B, usize)> {
-    (0..count).map(move |lane| (&blocks[lane / BLOCK_SIZE], lane % BLOCK_SIZE))
-}
-
 /// Test `ray` against the first `count` primitives of `blocks` (every block
 /// full but the last), counting each as a primitive test; true if a hit was
-/// recorded. `any_hit` stops at the first block that records one.
+/// recorded. `any_hit` stops at the first block that records one. `N` is the
+/// instruction set's type of the blocks' width.
 #[inline(always)]
-pub fn intersect_blocks<B: BlockIntersect, S: Counter>(
+pub fn intersect_blocks<
+    B: BlockIntersect,
+    N: SimdFloat<Array = <B::Lanes as SimdFloat>::Array>,
+    S: Counter,
+>(
     blocks: &[B],
     count: usize,
     ray: &Ray,
@@ -70,7 +69,7 @@ pub fn intersect_blocks<B: BlockIntersect, S: Counter>(
     let mut recorded = false;
     for (i, block) in blocks.iter().enumerate() {
         (0..(count - i * BLOCK_SIZE).min(BLOCK_SIZE)).for_each(|_| stats.prim());
-        recorded |= block.intersect(ray, hit);
+        recorded |= block.intersect_with::<N>(ray, hit);
         if recorded && any_hit {
             break;
         }

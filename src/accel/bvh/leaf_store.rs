@@ -9,14 +9,14 @@
 use rayon::prelude::*;
 
 use crate::accel::bvh::leaf::{
-    BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, SphereBlock, TriangleBlock, block_lanes, intersect_blocks,
+    BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, SphereBlock, TriangleBlock, intersect_blocks,
 };
 use crate::accel::bvh::node::Node;
 use crate::accel::stats::Counter;
 use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::SimdFloat;
+use crate::simd::{Simd8, SimdFloat};
 
 /// The leaves' primitives. 96 bytes plus the lists.
 #[derive(Clone, Debug, Default)]
@@ -148,9 +148,10 @@ impl LeafStore {
     }
 
     /// Test `ray` against the primitives of `leaf`, recording hits in `hit`;
-    /// returns true if one was recorded. `any_hit` stops at the first.
+    /// returns true if one was recorded. `any_hit` stops at the first. `N` is
+    /// the instruction set's type of the blocks' width.
     #[inline(always)]
-    pub fn intersect<S: Counter>(
+    pub fn intersect<N: Simd8, S: Counter>(
         &self,
         leaf: LeafRef,
         ray: &Ray,
@@ -160,10 +161,10 @@ impl LeafStore {
     ) -> bool {
         match leaf {
             LeafRef::Triangles { blocks, count } => {
-                intersect_blocks(&self.triangle_blocks[blocks], count, ray, hit, any_hit, stats)
+                intersect_blocks::<_, N, S>(&self.triangle_blocks[blocks], count, ray, hit, any_hit, stats)
             }
             LeafRef::Spheres { blocks, count } => {
-                intersect_blocks(&self.sphere_blocks[blocks], count, ray, hit, any_hit, stats)
+                intersect_blocks::<_, N, S>(&self.sphere_blocks[blocks], count, ray, hit, any_hit, stats)
             }
             LeafRef::Prims(range) => {
                 let mut recorded = false;
@@ -179,17 +180,24 @@ impl LeafStore {
         }
     }
 
-    /// Call `f` with each primitive of `leaf` in turn until it returns false.
+    /// The primitives of `leaf`, one at a time. (An iterator rather than a
+    /// callback: the loop body stays in the caller, compiled with the
+    /// caller's instruction set, see `dispatch`.)
     #[inline(always)]
-    pub fn for_each(&self, leaf: LeafRef, mut f: impl FnMut(LeafItem<'_>) -> bool) {
-        // `all` stops at the first false.
+    pub fn items(&self, leaf: LeafRef) -> LeafItems<'_> {
         match leaf {
-            LeafRef::Triangles { blocks, count } => block_lanes(&self.triangle_blocks[blocks], count)
-                .all(|(block, lane)| f(LeafItem::TriangleLane(block, lane))),
-            LeafRef::Spheres { blocks, count } => block_lanes(&self.sphere_blocks[blocks], count)
-                .all(|(block, lane)| f(LeafItem::SphereLane(block, lane))),
-            LeafRef::Prims(range) => self.records[range].iter().all(|prim| f(LeafItem::Record(prim))),
-        };
+            LeafRef::Triangles { blocks, count } => LeafItems::Triangles {
+                blocks: &self.triangle_blocks[blocks],
+                next: 0,
+                count,
+            },
+            LeafRef::Spheres { blocks, count } => LeafItems::Spheres {
+                blocks: &self.sphere_blocks[blocks],
+                next: 0,
+                count,
+            },
+            LeafRef::Prims(range) => LeafItems::Records(self.records[range].iter()),
+        }
     }
 
     /// The packet kernel of a leaf's primitive.
@@ -232,5 +240,62 @@ impl LeafStore {
             + self.triangle_blocks.len() * size_of::<TriangleBlock>()
             + self.sphere_blocks.len() * size_of::<SphereBlock>()
             + self.others.len() * size_of::<Primitive>()
+    }
+}
+
+/// The primitives of a leaf, one at a time ([`LeafStore::items`]).
+pub enum LeafItems<'a> {
+    /// Records.
+    Records(std::slice::Iter<'a, LeafPrim>),
+    /// The first `count` lanes of triangle blocks; `next` is the next lane.
+    Triangles {
+        /// The blocks.
+        blocks: &'a [TriangleBlock],
+        /// The next lane, counted over all blocks.
+        next: usize,
+        /// Triangles in the blocks.
+        count: usize,
+    },
+    /// The first `count` lanes of sphere blocks; `next` is the next lane.
+    Spheres {
+        /// The blocks.
+        blocks: &'a [SphereBlock],
+        /// The next lane, counted over all blocks.
+        next: usize,
+        /// Spheres in the blocks.
+        count: usize,
+    },
+}
+
+impl<'a> Iterator for LeafItems<'a> {
+    type Item = LeafItem<'a>;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<LeafItem<'a>> {
+        match self {
+            LeafItems::Records(records) => records.next().map(LeafItem::Record),
+            LeafItems::Triangles { blocks, next, count } => {
+                if *next == *count {
+                    return None;
+                }
+                let lane = *next;
+                *next += 1;
+                Some(LeafItem::TriangleLane(
+                    &blocks[lane / BLOCK_SIZE],
+                    lane % BLOCK_SIZE,
+                ))
+            }
+            LeafItems::Spheres { blocks, next, count } => {
+                if *next == *count {
+                    return None;
+                }
+                let lane = *next;
+                *next += 1;
+                Some(LeafItem::SphereLane(
+                    &blocks[lane / BLOCK_SIZE],
+                    lane % BLOCK_SIZE,
+                ))
+            }
+        }
     }
 }

@@ -39,6 +39,7 @@
 //! [`BruteForce`]: crate::accel::BruteForce
 
 pub mod build_sah;
+pub mod dispatch;
 pub mod leaf;
 pub mod leaf_store;
 pub mod node;
@@ -76,7 +77,8 @@ use crate::bounds::Aabb;
 use crate::geometry::Primitive;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::SimdFloat;
+use crate::simd::isa::IsaError;
+use crate::simd::{Isa, SimdFloat};
 use leaf::LeafRef;
 use leaf_store::LeafStore;
 use node::{Node, NodeId, NodePair, ROOT};
@@ -97,6 +99,8 @@ pub struct Bvh {
     bounded: usize,
     /// Degenerate triangles left out.
     skipped: usize,
+    /// The instruction set queries run on ([`dispatch`]).
+    isa: Isa,
 }
 
 /// Figures about a built BVH, for reports.
@@ -185,10 +189,25 @@ impl Bvh {
             unbounded,
             bounded: order.len(),
             skipped,
+            isa: Isa::default_level(),
         };
         let collapsed = wide::collapse(&bvh);
         bvh.wide = collapsed.nodes;
         bvh
+    }
+
+    /// The instruction set queries run on: [`Isa::default_level`] when built.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
+    /// Run queries on `isa` from now on; an error if this CPU cannot run it.
+    pub fn set_isa(&mut self, isa: Isa) -> Result<(), IsaError> {
+        if !isa.is_available() {
+            return Err(IsaError::Unavailable(isa));
+        }
+        self.isa = isa;
+        Ok(())
     }
 
     /// The node `id`.
@@ -285,23 +304,37 @@ impl Bvh {
 
 // The query entry points are generic over the counter already.
 impl Accel for Bvh {
+    #[inline]
     fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
-        traverse_single::intersect(self, ray, stats)
+        dispatch::intersect(self, ray, stats)
     }
 
+    #[inline]
     fn intersect_packet_counted<F: SimdFloat, S: Counter>(
         &self,
         rays: &RayPacket<F>,
         stats: &mut S,
     ) -> HitPacket<F> {
-        traverse_packet::intersect_packet(self, rays, stats)
+        dispatch::intersect_packet(self, rays, stats)
     }
 
+    #[inline]
     fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
-        occlusion::occluded(self, ray, stats)
+        dispatch::occluded(self, ray, stats)
     }
 
+    #[inline]
+    fn intersect_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
+        dispatch::intersect_each(self, rays, active, hits, stats)
+    }
+
+    #[inline]
+    fn occluded_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
+        dispatch::occluded_each(self, rays, active, stats)
+    }
+
+    #[inline]
     fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
-        occlusion::occluded_packet(self, rays, stats)
+        dispatch::occluded_packet(self, rays, stats)
     }
 }

@@ -14,7 +14,7 @@ use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::SimdFloat;
+use crate::simd::{Simd8, SimdFloat};
 
 /// The any-hit query of one ray.
 struct AnyHit<'a> {
@@ -32,19 +32,21 @@ impl RayQuery for AnyHit<'_> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        bvh.leaves.intersect(leaf, self.ray, &mut self.hit, true, stats)
+    fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
+        bvh.leaves
+            .intersect::<N, S>(leaf, self.ray, &mut self.hit, true, stats)
     }
 }
 
-/// Whether anything lies on `ray` within `[t_min, t_max]`.
-#[inline]
-pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
+/// Whether anything lies on `ray` within `[t_min, t_max]`, with the
+/// instruction set's 8-lane type `N`.
+#[inline(always)]
+pub fn occluded<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
     let mut query = AnyHit {
         ray,
         hit: Hit::none(ray),
     };
-    trace(bvh, ray, &mut query, stats)
+    trace::<N, _, S>(bvh, ray, &mut query, stats)
 }
 
 /// The any-hit query of a packet: occluded lanes leave the packet.
@@ -73,19 +75,19 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         self.rays.active = mask & self.pending;
-        bvh.leaves.for_each(leaf, |prim| {
+        for prim in bvh.leaves.items(leaf) {
             if self.rays.active.none() {
-                return false;
+                break;
             }
             stats.packet_prim(self.rays.active);
             bvh.leaves.intersect_packet(prim, &self.rays, &mut self.hits);
             let hit = self.hits.hit_mask();
             self.pending = self.pending.and_not(hit);
             self.rays.active = self.rays.active.and_not(hit);
-            true
-        });
+        }
     }
 
+    #[inline(always)]
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S) {
         for lane in lane_bits(lanes) {
             stats.lane(lane);
@@ -94,7 +96,7 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
                 ray: &ray,
                 hit: Hit::none(&ray),
             };
-            if traverse(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
+            if traverse::<F::Lanes8, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
                 self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
             }
         }
@@ -102,7 +104,7 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
 }
 
 /// The mask of active lanes of `rays` on which something lies within `[t_min, t_max]`.
-#[inline]
+#[inline(always)]
 pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> F {
     stats.rays(u64::from(rays.active.bitmask().count_ones()));
     stats.packet();

@@ -8,7 +8,7 @@ use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
-use crate::simd::SimdFloat;
+use crate::simd::{Simd8, SimdFloat};
 
 /// What a single-ray traversal does in leaves, and how far it looks.
 pub trait RayQuery {
@@ -20,8 +20,9 @@ pub trait RayQuery {
     /// The largest t still of interest (the current hit's t for nearest-hit queries).
     fn t_max(&self) -> f32;
 
-    /// Test the primitives of `leaf`; true ends the traversal.
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool;
+    /// Test the primitives of `leaf` (blocks with the 8-lane type `N`); true
+    /// ends the traversal.
+    fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool;
 }
 
 /// What a packet traversal does in leaves, and how far each lane looks.
@@ -40,7 +41,7 @@ pub trait PacketQuery<F: SimdFloat> {
 
     /// Trace the lanes of the mask `lanes` through the subtree of the wide
     /// tree under `start` (whose box they met) as single rays, one after the
-    /// other (reporting each to [`Counter::lane`]).
+    /// other (reporting each to [`Counter::lane`]), with `F`'s 8-lane type.
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S);
 }
 

@@ -36,7 +36,7 @@ struct Pending {
 
 /// Traverse the wide tree from its root with the lanes of `lanes` (which met
 /// the root's box) of the rays prepared in `slab`.
-#[inline]
+#[inline(always)]
 pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     bvh: &Bvh,
     slab: &SlabPacket<F>,

@@ -41,15 +41,17 @@ pub const COHERENT_COS: f32 = 0.99;
 
 /// Bit `k` set when most active lanes point down axis `k`: the packet then
 /// visits the upper child of a node split along `k` first.
-#[inline]
+#[inline(always)]
 pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
     let active = rays.active.bitmask().count_ones();
-    (0..3).fold(0, |bits, k| {
+    let mut bits = 0;
+    for k in 0..3 {
         let negative = (rays.dir.axis(k).lt(F::splat(0.0)) & rays.active)
             .bitmask()
             .count_ones();
-        bits | (u32::from(2 * negative > active) << k)
-    })
+        bits |= u32::from(2 * negative > active) << k;
+    }
+    bits
 }
 
 /// True when every active lane's direction lies within [`COHERENT_COS`] of the
@@ -59,17 +61,14 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
 /// as single rays (measured on primary rays of the dragon: 1.5× faster with no
 /// fallback than with a fallback at 2 lanes), so coherent packets never fall
 /// back; incoherent ones are traced as single rays from the root.
-#[inline]
+#[inline(always)]
 pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
-    let sum = |d: F| {
-        rays.active
-            .select(d, F::splat(0.0))
-            .to_array()
-            .as_ref()
-            .iter()
-            .sum::<f32>()
-    };
-    let mean = Vec3::new(sum(rays.dir.x), sum(rays.dir.y), sum(rays.dir.z));
+    let active = rays.active;
+    let mean = Vec3::new(
+        active_sum(active, rays.dir.x),
+        active_sum(active, rays.dir.y),
+        active_sum(active, rays.dir.z),
+    );
     let d = &rays.dir;
     let dot = d.x * F::splat(mean.x) + d.y * F::splat(mean.y) + d.z * F::splat(mean.z);
     let length2 = d.x * d.x + d.y * d.y + d.z * d.z;
@@ -79,8 +78,20 @@ pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
     (inside & rays.active).bitmask() == rays.active.bitmask()
 }
 
+/// The sum of the lanes of `d` where the mask `active` is set, lane 0 first.
+#[inline(always)]
+fn active_sum<F: SimdFloat>(active: F, d: F) -> f32 {
+    let lanes = active.select(d, F::splat(0.0)).to_array();
+    // From −0, as `Iterator::sum` starts.
+    let mut sum = -0.0;
+    for &x in lanes.as_ref() {
+        sum += x;
+    }
+    sum
+}
+
 /// Traverse the whole tree with the lanes of `query.live()`.
-#[inline]
+#[inline(always)]
 pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     bvh: &Bvh,
     rays: &RayPacket<F>,
@@ -185,13 +196,13 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         self.rays.active = mask;
-        bvh.leaves.for_each(leaf, |prim| {
+        for prim in bvh.leaves.items(leaf) {
             stats.packet_prim(mask);
             bvh.leaves.intersect_packet(prim, &self.rays, self.hits);
-            true
-        });
+        }
     }
 
+    #[inline(always)]
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S) {
         for lane in lane_bits(lanes) {
             stats.lane(lane);
@@ -201,7 +212,7 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
                 ray: &ray,
                 hit: &mut hit,
             };
-            traverse(bvh, start, &SlabRay::new(&ray), &mut query, stats);
+            traverse::<F::Lanes8, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats);
             self.hits.set_hit(lane, &hit);
         }
     }
@@ -210,7 +221,7 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
 /// Run `query` for the packet `rays` over the whole BVH: the leaf of
 /// unbounded primitives first, on every active lane, then the tree for the
 /// lanes still live.
-#[inline]
+#[inline(always)]
 pub fn trace_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     bvh: &Bvh,
     rays: &RayPacket<F>,
@@ -226,7 +237,7 @@ pub fn trace_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
 }
 
 /// The nearest hits of the active lanes of `rays`.
-#[inline]
+#[inline(always)]
 pub fn intersect_packet<F: SimdFloat, S: Counter>(
     bvh: &Bvh,
     rays: &RayPacket<F>,

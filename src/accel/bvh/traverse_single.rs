@@ -13,11 +13,12 @@ use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
 use crate::accel::bvh::wide::{ChildRef, WIDTH};
 use crate::accel::stats::Counter;
 use crate::ray::{Hit, Ray};
+use crate::simd::Simd8;
 
 /// Traverse the subtree under `start` (whose box the ray is known to meet, or
 /// [`ChildRef::ROOT`]); returns true if the query ended the traversal early.
-#[inline]
-pub fn traverse<Q: RayQuery, S: Counter>(
+#[inline(always)]
+pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
     bvh: &Bvh,
     start: ChildRef,
     slab: &SlabRay,
@@ -30,13 +31,13 @@ pub fn traverse<Q: RayQuery, S: Counter>(
     loop {
         stats.node();
         if next.is_leaf() {
-            if !next.is_empty() && query.leaf(bvh, next.contents(), stats) {
+            if !next.is_empty() && query.leaf::<N, S>(bvh, next.contents(), stats) {
                 return true;
             }
         } else {
             // Test all children's boxes at once.
             let node = &bvh.wide[next.node()];
-            let (mut bits, t) = node.entry(slab, query.t_max());
+            let (mut bits, t) = node.entry::<N>(slab, query.t_max());
             let rest = bits & bits.wrapping_sub(1);
             if bits != 0 && rest & rest.wrapping_sub(1) == 0 {
                 // One or two children met (nine visits in ten): descend into
@@ -103,29 +104,31 @@ impl RayQuery for Nearest<'_> {
     }
 
     #[inline(always)]
-    fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        bvh.leaves.intersect(leaf, self.ray, self.hit, false, stats);
+    fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
+        bvh.leaves
+            .intersect::<N, S>(leaf, self.ray, self.hit, false, stats);
         false
     }
 }
 
 /// Run `query` for `ray` over the whole BVH: the leaf of unbounded
 /// primitives first, then the tree; returns true if the query ended early.
-#[inline]
-pub fn trace<Q: RayQuery, S: Counter>(bvh: &Bvh, ray: &Ray, query: &mut Q, stats: &mut S) -> bool {
+/// `N` is the instruction set's 8-lane type.
+#[inline(always)]
+pub fn trace<N: Simd8, Q: RayQuery, S: Counter>(bvh: &Bvh, ray: &Ray, query: &mut Q, stats: &mut S) -> bool {
     stats.rays(1);
     if let Some(leaf) = bvh.unbounded_leaf()
-        && query.leaf(bvh, leaf, stats)
+        && query.leaf::<N, S>(bvh, leaf, stats)
     {
         return true;
     }
-    !bvh.is_empty() && traverse(bvh, ChildRef::ROOT, &SlabRay::new(ray), query, stats)
+    !bvh.is_empty() && traverse::<N, Q, S>(bvh, ChildRef::ROOT, &SlabRay::new(ray), query, stats)
 }
 
-/// The nearest hit of `ray`.
-#[inline]
-pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
+/// The nearest hit of `ray`, with the instruction set's 8-lane type `N`.
+#[inline(always)]
+pub fn intersect<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
     let mut hit = Hit::none(ray);
-    trace(bvh, ray, &mut Nearest { ray, hit: &mut hit }, stats);
+    trace::<N, _, S>(bvh, ray, &mut Nearest { ray, hit: &mut hit }, stats);
     hit
 }

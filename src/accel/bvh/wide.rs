@@ -1,6 +1,6 @@
 //! The wide view of the BVH for single rays: each node holds the boxes of up
-//! to [`WIDTH`] children (8 with AVX, else 4) in structure-of-arrays form, so one
-//! ray tests all of them with one SIMD slab test (the layout of Embree's BVH4 and
+//! to [`WIDTH`] (8) children in structure-of-arrays form, so one ray tests all
+//! of them with one SIMD slab test (the layout of Embree's BVH4 and
 //! BVH8, Wald et al., "Embree: a kernel framework for efficient CPU ray
 //! tracing", SIGGRAPH 2014). It is made by collapsing the binary tree (each
 //! wide node takes a binary node and opens its largest inner children until it
@@ -10,7 +10,9 @@
 //!
 //! 8-wide nodes halve the visits per ray against 4-wide ones on large meshes
 //! (a 10⁶-triangle mesh is log₈ rather than log₄ of its leaves deep), for the
-//! same latency per visit: an `f32x8` test costs what an `f32x4` one does.
+//! same latency per visit: an 8-lane test costs what a 4-lane one does (with
+//! SSE it is two 4-lane tests, which overlap). The width is the same on every
+//! machine, so the tree does not depend on the instruction set it is traced with.
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::MAX_DEPTH;
@@ -147,17 +149,18 @@ impl<F: SimdFloat> WideNodeOf<F> {
     /// The slab test of `ray` against all children's boxes at once: the mask of
     /// children met within `[t_min, t_max]` (bit `i` for child `i`) and their entry t.
     /// Lane `i` computes exactly what [`SlabRay::entry`] computes for child `i`.
+    /// `N` is the instruction set's type of the node's width.
     #[inline(always)]
-    pub fn entry(&self, ray: &SlabRay, t_max: f32) -> (u32, F::Array) {
+    pub fn entry<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, t_max: f32) -> (u32, F::Array) {
         let plane = |axis: usize, corner: usize| {
-            F::from_array(self.bounds[axis][corner]) - F::splat(ray.origin[axis])
+            N::from_array(self.bounds[axis][corner]) - N::splat(ray.origin[axis])
         };
         // `& 1` tells the compiler the corner is 0 or 1, so it checks no bounds.
-        let near = |axis: usize| plane(axis, ray.entry_corner(axis) & 1) * F::splat(ray.inv_dir[axis]);
+        let near = |axis: usize| plane(axis, ray.entry_corner(axis) & 1) * N::splat(ray.inv_dir[axis]);
         let far =
-            |axis: usize| plane(axis, (ray.entry_corner(axis) ^ 1) & 1) * F::splat(ray.inv_dir_far[axis]);
-        let t_near = near(0).fast_max(near(1).fast_max(near(2).fast_max(F::splat(ray.t_min))));
-        let t_far = far(0).fast_min(far(1).fast_min(far(2).fast_min(F::splat(t_max * FAR_SCALE))));
+            |axis: usize| plane(axis, (ray.entry_corner(axis) ^ 1) & 1) * N::splat(ray.inv_dir_far[axis]);
+        let t_near = near(0).fast_max(near(1).fast_max(near(2).fast_max(N::splat(ray.t_min))));
+        let t_far = far(0).fast_min(far(1).fast_min(far(2).fast_min(N::splat(t_max * FAR_SCALE))));
         (t_near.le(t_far).bitmask(), t_near.to_array())
     }
 }
@@ -289,7 +292,7 @@ mod tests {
             };
             let ray = Ray::new(origin, dir, rng.range(0.0, 0.5), t_max);
             let slab = SlabRay::new(&ray);
-            let (bits, t) = node.entry(&slab, t_max);
+            let (bits, t) = node.entry::<F>(&slab, t_max);
             for (i, t_lane) in t.as_ref().iter().enumerate().take(slots) {
                 let b = node.child_bounds(i);
                 let scalar = slab.entry(b.min, b.max, t_max);
@@ -363,10 +366,9 @@ mod tests {
                         stack.push(slot.node());
                         continue;
                     }
-                    bvh.leaves.for_each(slot.contents(), |p| {
+                    for p in bvh.leaves.items(slot.contents()) {
                         covered[p.id() as usize] += 1;
-                        true
-                    });
+                    }
                 }
             }
             assert!(covered.iter().all(|&x| x <= 1));

@@ -140,9 +140,10 @@ impl<'a> Run<'a> {
         }
         let env = &result.environment;
         outln!(
-            "(measured on {}, {} threads, commit {}, {}; `raypack env` for the rest)",
+            "(measured on {}, {} threads, kernels {}, commit {}, {}; `raypack env` for the rest)",
             env.cpu_model,
             env.threads,
+            env.isa_label(),
             env.git_commit,
             env.date
         )?;

@@ -1,30 +1,47 @@
-//! The SIMD lane types behind ray packets.
+//! The SIMD lane types behind ray packets, and the instruction set they run on.
 //!
-//! [`SimdFloat`] is the one trait the packet kernels are written against. It is
-//! implemented for `wide::f32x4`, `f32x8` and `f32x16`, so the packet width is a
-//! type parameter: `RayPacket<f32x8>` is the 8-wide packet the engine uses, and a
-//! 4- or 16-wide packet is the same code instantiated with another type.
+//! [`SimdFloat`] is the one trait the packet kernels are written against, so
+//! the packet width and the instructions are a type parameter: `RayPacket<F>`
+//! with `F` one of
+//! - the `wide` crate's `f32x4`, `f32x8`, `f32x16` ([`portable`]): whatever the
+//!   crate was compiled for; the types callers build packets with;
+//! - the x86 types of [`x86`] (`Sse8`, `Avx8`, `Avx16`): SSE4.2, AVX2 and
+//!   AVX-512 instructions, used only inside functions compiled for them and
+//!   entered after the CPU was checked ([`Isa`], chosen at run time).
 //!
 //! A *mask* is a float vector whose lanes are all-ones (true) or all-zeros
 //! (false), as returned by the comparisons.
 
+pub mod isa;
+pub mod portable;
+#[cfg(target_arch = "x86_64")]
+pub mod x86;
+
 use std::fmt::Debug;
 use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Sub};
 
-use wide::{f32x4, f32x8, f32x16, u32x4, u32x8, u32x16};
+pub use isa::Isa;
 
-/// The SIMD type of a single ray's box test, and so the width of the BVH's
-/// wide nodes and leaf blocks: 8 lanes per `f32x8` test where the CPU has
-/// 256-bit vectors (AVX), 4 per `f32x4` elsewhere. The one place the width of
-/// the single-ray kernels is chosen.
-#[cfg(target_feature = "avx")]
-pub type NodeLanes = f32x8;
-/// The SIMD type of a single ray's box test (see the AVX variant).
-#[cfg(not(target_feature = "avx"))]
-pub type NodeLanes = f32x4;
+/// The storage of 8 lanes: wide nodes' boxes and leaf blocks hold their
+/// planes as this type's arrays, and every instruction set reads them with its
+/// own 8-lane type ([`SimdFloat::Lanes8`]). Nodes and blocks are 8 wide on
+/// every machine, so one tree serves every instruction set.
+pub type NodeLanes = wide::f32x8;
+
+/// A [`SimdFloat`] of 8 lanes: what single rays test wide nodes and leaf blocks with.
+pub trait Simd8: SimdFloat<Array = [f32; 8]> {}
+
+impl<T: SimdFloat<Array = [f32; 8]>> Simd8 for T {}
 
 /// A vector of `LANES` f32 lanes, with its lane-matched u32 vector.
-pub trait SimdFloat:
+///
+/// # Safety
+/// An implementor is plain data: exactly `LANES` f32 lanes in lane order
+/// (`4 · LANES` bytes, any bit pattern valid), so that packets of two types of
+/// one width are converted by copying their bytes ([`RayPacket::convert`]).
+///
+/// [`RayPacket::convert`]: crate::packet::RayPacket::convert
+pub unsafe trait SimdFloat:
     Copy
     + Debug
     + Send
@@ -45,6 +62,9 @@ pub trait SimdFloat:
     type U32: SimdU32<Mask = Self>;
     /// `[f32; LANES]`.
     type Array: AsRef<[f32]> + AsMut<[f32]> + Copy + Default + Debug;
+    /// The 8-lane type of the same instruction set, for the wide-node and
+    /// leaf-block tests a packet's lanes do as single rays.
+    type Lanes8: Simd8;
 
     /// All lanes set to `x`.
     fn splat(x: f32) -> Self;
@@ -95,10 +115,23 @@ pub trait SimdFloat:
     fn mask_from_bits(bits: u32) -> Self;
     /// The mask reinterpreted as a u32 mask of the same lanes.
     fn to_u32_mask(self) -> Self::U32;
+
+    /// The same lanes as another type of the same width (another instruction
+    /// set's), bit for bit.
+    #[inline(always)]
+    fn convert<G: SimdFloat>(self) -> G {
+        debug_assert_eq!(G::LANES, Self::LANES);
+        let mut lanes = G::Array::default();
+        lanes.as_mut().copy_from_slice(self.to_array().as_ref());
+        G::from_array(lanes)
+    }
 }
 
 /// A vector of u32 lanes, matched lane for lane to a [`SimdFloat`].
-pub trait SimdU32: Copy + Debug + Send + Sync + 'static {
+///
+/// # Safety
+/// As [`SimdFloat`]: plain data, exactly its `LANES` u32 lanes in lane order.
+pub unsafe trait SimdU32: Copy + Debug + Send + Sync + 'static {
     /// The float mask type of the same width.
     type Mask;
     /// `[u32; LANES]`.
@@ -113,147 +146,19 @@ pub trait SimdU32: Copy + Debug + Send + Sync + 'static {
     fn lt(self, rhs: Self) -> Self::Mask;
     /// Per lane: `if_true` where the float mask is set, else `if_false`.
     fn select(mask: Self::Mask, if_true: Self, if_false: Self) -> Self;
+
+    /// The same lanes as another type of the same width, bit for bit.
+    #[inline(always)]
+    fn convert<G: SimdU32>(self) -> G {
+        let mut lanes = G::Array::default();
+        lanes.as_mut().copy_from_slice(self.to_array().as_ref());
+        G::from_array(lanes)
+    }
 }
-
-macro_rules! impl_simd_float {
-    ($f:ident, $u:ident, $n:literal) => {
-        impl SimdFloat for $f {
-            const LANES: usize = $n;
-            type U32 = $u;
-            type Array = [f32; $n];
-
-            #[inline(always)]
-            fn splat(x: f32) -> Self {
-                $f::splat(x)
-            }
-            #[inline(always)]
-            fn from_array(a: Self::Array) -> Self {
-                $f::new(a)
-            }
-            #[inline(always)]
-            fn to_array(self) -> Self::Array {
-                $f::to_array(self)
-            }
-            #[inline(always)]
-            fn lt(self, rhs: Self) -> Self {
-                self.simd_lt(rhs)
-            }
-            #[inline(always)]
-            fn le(self, rhs: Self) -> Self {
-                self.simd_le(rhs)
-            }
-            #[inline(always)]
-            fn gt(self, rhs: Self) -> Self {
-                self.simd_gt(rhs)
-            }
-            #[inline(always)]
-            fn ge(self, rhs: Self) -> Self {
-                self.simd_ge(rhs)
-            }
-            #[inline(always)]
-            fn eq(self, rhs: Self) -> Self {
-                self.simd_eq(rhs)
-            }
-            #[inline(always)]
-            fn ne(self, rhs: Self) -> Self {
-                self.simd_ne(rhs)
-            }
-            #[inline(always)]
-            fn select(self, if_true: Self, if_false: Self) -> Self {
-                $f::select(self, if_true, if_false)
-            }
-            #[inline(always)]
-            fn and_not(self, rhs: Self) -> Self {
-                self & !rhs
-            }
-            #[inline(always)]
-            fn bitmask(self) -> u32 {
-                self.to_bitmask()
-            }
-            #[inline(always)]
-            fn any(self) -> bool {
-                $f::any(self)
-            }
-            #[inline(always)]
-            fn none(self) -> bool {
-                $f::none(self)
-            }
-            #[inline(always)]
-            fn sqrt(self) -> Self {
-                $f::sqrt(self)
-            }
-            #[inline(always)]
-            fn abs(self) -> Self {
-                $f::abs(self)
-            }
-            #[inline(always)]
-            fn min(self, rhs: Self) -> Self {
-                $f::min(self, rhs)
-            }
-            #[inline(always)]
-            fn max(self, rhs: Self) -> Self {
-                $f::max(self, rhs)
-            }
-            #[inline(always)]
-            fn fast_min(self, rhs: Self) -> Self {
-                $f::fast_min(self, rhs)
-            }
-            #[inline(always)]
-            fn fast_max(self, rhs: Self) -> Self {
-                $f::fast_max(self, rhs)
-            }
-            #[inline(always)]
-            fn all_true() -> Self {
-                $f::splat(f32::from_bits(u32::MAX))
-            }
-            #[inline(always)]
-            fn mask_from_bits(bits: u32) -> Self {
-                // Lane i keeps bit i of `bits`, then a compare widens it to the
-                // whole lane (in registers: no stores and reloads).
-                let lane_bits = $u::new(std::array::from_fn(|i| 1u32 << i));
-                wide::bytemuck::cast(($u::splat(bits) & lane_bits).simd_eq(lane_bits))
-            }
-            #[inline(always)]
-            fn to_u32_mask(self) -> $u {
-                wide::bytemuck::cast(self)
-            }
-        }
-
-        impl SimdU32 for $u {
-            type Mask = $f;
-            type Array = [u32; $n];
-
-            #[inline(always)]
-            fn splat(x: u32) -> Self {
-                $u::splat(x)
-            }
-            #[inline(always)]
-            fn from_array(a: Self::Array) -> Self {
-                $u::new(a)
-            }
-            #[inline(always)]
-            fn to_array(self) -> Self::Array {
-                $u::to_array(self)
-            }
-            #[inline(always)]
-            fn lt(self, rhs: Self) -> $f {
-                wide::bytemuck::cast(self.simd_lt(rhs))
-            }
-            #[inline(always)]
-            fn select(mask: $f, if_true: Self, if_false: Self) -> Self {
-                let mask: $u = wide::bytemuck::cast(mask);
-                mask.select(if_true, if_false)
-            }
-        }
-    };
-}
-
-impl_simd_float!(f32x4, u32x4, 4);
-impl_simd_float!(f32x8, u32x8, 8);
-impl_simd_float!(f32x16, u32x16, 16);
 
 /// A 3-vector of SIMD lanes (structure of arrays): lane `i` of `x, y, z` is one vector.
 #[derive(Clone, Copy, Debug)]
+#[repr(C)]
 pub struct V3<F> {
     /// x lanes.
     pub x: F,
@@ -375,6 +280,8 @@ impl<F: SimdFloat> Neg for V3<F> {
 
 #[cfg(test)]
 mod tests {
+    use wide::{f32x4, f32x8, f32x16};
+
     use super::*;
 
     fn check_masks<F: SimdFloat>() {

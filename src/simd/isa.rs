@@ -1,0 +1,265 @@
+//! The instruction set the hot paths run on, chosen at run time.
+//!
+//! One binary carries the traversal and kernels compiled for each level, in
+//! the spirit of Embree's per-ISA kernels: work written once, generic over a
+//! [`Level`]'s lane types, is a [`LevelTask`], and [`Isa::run`] runs it inside
+//! the level's entry point (`#[target_feature]`), the one place raypack
+//! enters an instruction set's code. Which level runs is an [`Isa`]: the best the CPU has ([`Isa::best`]), unless a
+//! command forces one (`--isa`) for a comparison. A level is only ever run
+//! where [`Isa::is_available`] says the CPU has it.
+
+use std::fmt;
+use std::str::FromStr;
+use std::sync::atomic::{AtomicU8, Ordering};
+
+use crate::simd::{Simd8, SimdFloat};
+
+/// An instruction-set level for the SIMD hot paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Isa {
+    /// The `wide` crate's types, compiled for whatever the build targets
+    /// (SSE2 on a baseline x86-64 build, NEON on aarch64).
+    Portable,
+    /// SSE4.2: 4-lane registers, two per 8-lane vector.
+    Sse42,
+    /// AVX2 (with FMA, as Embree's level of the name): 8-lane registers.
+    Avx2,
+    /// AVX-512 (F, VL, BW, DQ, CD): 16-lane registers for 16-wide packets,
+    /// 8-lane ones with AVX-512 encodings for the rest.
+    Avx512,
+}
+
+impl Isa {
+    /// Every level, lowest first.
+    pub const ALL: [Isa; 4] = [Isa::Portable, Isa::Sse42, Isa::Avx2, Isa::Avx512];
+
+    /// The name `--isa` takes and results print.
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Portable => "portable",
+            Isa::Sse42 => "sse4.2",
+            Isa::Avx2 => "avx2",
+            Isa::Avx512 => "avx512",
+        }
+    }
+
+    /// Whether this CPU can run the level.
+    pub fn is_available(self) -> bool {
+        match self {
+            Isa::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            Isa::Sse42 => is_x86_feature_detected!("sse4.2") && is_x86_feature_detected!("popcnt"),
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => {
+                Isa::Sse42.is_available()
+                    && is_x86_feature_detected!("avx2")
+                    && is_x86_feature_detected!("fma")
+                    && is_x86_feature_detected!("bmi1")
+                    && is_x86_feature_detected!("bmi2")
+                    && is_x86_feature_detected!("lzcnt")
+            }
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => {
+                Isa::Avx2.is_available()
+                    && is_x86_feature_detected!("avx512f")
+                    && is_x86_feature_detected!("avx512vl")
+                    && is_x86_feature_detected!("avx512bw")
+                    && is_x86_feature_detected!("avx512dq")
+                    && is_x86_feature_detected!("avx512cd")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => false,
+        }
+    }
+
+    /// The levels this CPU can run, lowest first.
+    pub fn available() -> Vec<Isa> {
+        Isa::ALL.into_iter().filter(|isa| isa.is_available()).collect()
+    }
+
+    /// The highest level this CPU can run.
+    pub fn best() -> Isa {
+        Isa::ALL
+            .into_iter()
+            .rev()
+            .find(|isa| isa.is_available())
+            .unwrap_or(Isa::Portable)
+    }
+
+    /// The level new acceleration structures run on: [`Isa::best`] unless
+    /// [`Isa::set_default`] chose another.
+    pub fn default_level() -> Isa {
+        match DEFAULT.load(Ordering::Relaxed) {
+            UNSET => Isa::best(),
+            i => Isa::ALL[usize::from(i)],
+        }
+    }
+
+    /// Make `isa` the level of every acceleration structure built from now
+    /// on (the `--isa` option); an error if this CPU cannot run it.
+    pub fn set_default(isa: Isa) -> Result<(), IsaError> {
+        if !isa.is_available() {
+            return Err(IsaError::Unavailable(isa));
+        }
+        let index = Isa::ALL
+            .iter()
+            .position(|&i| i == isa)
+            .expect("every level is in ALL");
+        DEFAULT.store(index as u8, Ordering::Relaxed);
+        Ok(())
+    }
+}
+
+/// [`Isa::default_level`]'s choice: an index into [`Isa::ALL`], or [`UNSET`].
+static DEFAULT: AtomicU8 = AtomicU8::new(UNSET);
+
+/// No level chosen: the best the CPU has.
+const UNSET: u8 = u8::MAX;
+
+impl fmt::Display for Isa {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A level that cannot be named or run.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum IsaError {
+    /// Not a level's name.
+    #[error("unknown instruction set `{0}` (expected auto, portable, sse4.2, avx2 or avx512)")]
+    Unknown(String),
+    /// The CPU lacks it.
+    #[error("this CPU cannot run {0} (it has: {list})", list = Isa::available().iter().map(|i| i.name()).collect::<Vec<_>>().join(", "))]
+    Unavailable(Isa),
+}
+
+impl FromStr for Isa {
+    type Err = IsaError;
+
+    /// A level by name; `auto` is [`Isa::best`].
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "auto" {
+            return Ok(Isa::best());
+        }
+        Isa::ALL
+            .into_iter()
+            .find(|isa| isa.name() == s)
+            .ok_or_else(|| IsaError::Unknown(s.to_string()))
+    }
+}
+
+/// The lane types of one instruction-set level, of each width packets come in.
+pub trait Level {
+    /// The level.
+    const ISA: Isa;
+    /// 4 lanes.
+    type F4: SimdFloat<Array = [f32; 4]>;
+    /// 8 lanes: packets, and the wide-node and leaf-block tests of single rays.
+    type F8: Simd8;
+    /// 16 lanes.
+    type F16: SimdFloat<Array = [f32; 16]>;
+}
+
+/// [`Isa::Portable`]'s lane types: `wide`'s.
+pub struct PortableLanes;
+
+impl Level for PortableLanes {
+    const ISA: Isa = Isa::Portable;
+    type F4 = wide::f32x4;
+    type F8 = wide::f32x8;
+    type F16 = wide::f32x16;
+}
+
+/// Work compiled for every level: [`Isa::run`] calls `run` with the chosen
+/// level's lane types, inside a function compiled for that level. What `run`
+/// calls must be `#[inline(always)]` (and free of closures over SIMD values)
+/// to be compiled with the level's instructions; `tests/bvh/isa.rs` checks
+/// the binary for intrinsics left out of line.
+pub trait LevelTask {
+    /// What the work returns.
+    type Output;
+    /// Do the work with the lane types of `L`.
+    fn run<L: Level>(self) -> Self::Output;
+}
+
+impl Isa {
+    /// Run `task` compiled for this level: the one place raypack enters an
+    /// instruction set's code.
+    ///
+    /// # Safety
+    /// The CPU must have the level ([`Isa::is_available`]); the levels that
+    /// [`Isa::default_level`] returns and `Bvh::set_isa` accepts are checked.
+    #[inline(always)]
+    pub unsafe fn run<T: LevelTask>(self, task: T) -> T::Output {
+        match self {
+            // SAFETY: the caller guarantees the CPU has the level.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Sse42 => unsafe { entry::sse42(task) },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => unsafe { entry::avx2(task) },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => unsafe { entry::avx512(task) },
+            _ => task.run::<PortableLanes>(),
+        }
+    }
+}
+
+/// The entry point of each x86 level: a task compiled with the level's
+/// instructions and lane types.
+#[cfg(target_arch = "x86_64")]
+mod entry {
+    use super::{Level, LevelTask};
+    use crate::simd::Isa;
+    use crate::simd::x86::{Avx8, Avx8x2, Avx16, Sse4, Sse8, Sse16};
+
+    /// Declares a level's lane types and its entry point.
+    macro_rules! x86_level {
+        ($lanes:ident, $isa:ident, $entry:ident, $features:literal, $f4:ty, $f8:ty, $f16:ty) => {
+            #[doc = concat!("[`Isa::", stringify!($isa), "`]'s lane types.")]
+            pub struct $lanes;
+
+            impl Level for $lanes {
+                const ISA: Isa = Isa::$isa;
+                type F4 = $f4;
+                type F8 = $f8;
+                type F16 = $f16;
+            }
+
+            #[doc = concat!("`task` compiled for [`Isa::", stringify!($isa), "`].")]
+            #[target_feature(enable = $features)]
+            pub fn $entry<T: LevelTask>(task: T) -> T::Output {
+                task.run::<$lanes>()
+            }
+        };
+    }
+
+    x86_level!(
+        Sse42Lanes,
+        Sse42,
+        sse42,
+        "sse4.1,sse4.2,popcnt",
+        Sse4,
+        Sse8,
+        Sse16
+    );
+    x86_level!(
+        Avx2Lanes,
+        Avx2,
+        avx2,
+        "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt",
+        Sse4,
+        Avx8,
+        Avx8x2
+    );
+    x86_level!(
+        Avx512Lanes,
+        Avx512,
+        avx512,
+        "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt,avx512f,avx512vl,avx512bw,avx512dq,avx512cd",
+        Sse4,
+        Avx8,
+        Avx16
+    );
+}
