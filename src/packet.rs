@@ -41,6 +41,7 @@ impl<F: SimdFloat> RayPacket<F> {
     }
 
     /// Pack up to `LANES` rays, with only the lanes whose bit is set in `mask` active.
+    #[inline(always)]
     pub fn from_rays_masked(rays: &[Ray], mask: u32) -> Self {
         assert!(rays.len() <= F::LANES, "more rays than lanes");
         let filler = rays
@@ -62,12 +63,21 @@ impl<F: SimdFloat> RayPacket<F> {
         } else {
             (1u32 << rays.len()) - 1
         };
-        let [ox, oy, oz, dx, dy, dz, t_min, t_max] = lanes.map(F::from_array);
+        // (No array map: this is compiled into instruction sets' entry points.)
+        let [ox, oy, oz, dx, dy, dz, t_min, t_max] = lanes;
         Self {
-            origin: V3 { x: ox, y: oy, z: oz },
-            dir: V3 { x: dx, y: dy, z: dz },
-            t_min,
-            t_max,
+            origin: V3 {
+                x: F::from_array(ox),
+                y: F::from_array(oy),
+                z: F::from_array(oz),
+            },
+            dir: V3 {
+                x: F::from_array(dx),
+                y: F::from_array(dy),
+                z: F::from_array(dz),
+            },
+            t_min: F::from_array(t_min),
+            t_max: F::from_array(t_max),
             active: F::mask_from_bits(mask & present),
         }
     }

@@ -94,4 +94,25 @@ impl Accel for AnyAccel<'_> {
     fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
         forward!(self, a => a.occluded_packet_counted(rays, stats))
     }
+
+    fn intersect_rays_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &[Ray],
+        mask: u32,
+        stats: &mut S,
+    ) -> HitPacket<F> {
+        forward!(self, a => a.intersect_rays_counted(rays, mask, stats))
+    }
+
+    fn occluded_rays_counted<F: SimdFloat, S: Counter>(&self, rays: &[Ray], mask: u32, stats: &mut S) -> F {
+        forward!(self, a => a.occluded_rays_counted(rays, mask, stats))
+    }
+
+    fn intersect_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
+        forward!(self, a => a.intersect_each_counted(rays, active, hits, stats))
+    }
+
+    fn occluded_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
+        forward!(self, a => a.occluded_each_counted(rays, active, stats))
+    }
 }

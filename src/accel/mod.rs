@@ -49,6 +49,28 @@ pub trait Accel: Sync {
     /// The mask of active lanes on which something lies in `[t_min, t_max]`.
     fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F;
 
+    /// The nearest hits of up to `F::LANES` rays traced as one packet, the
+    /// lanes of `mask` active: [`intersect_packet_counted`](Self::intersect_packet_counted)
+    /// of [`RayPacket::from_rays_masked`]. A BVH packs them in its instruction
+    /// set's lanes itself (a packet stored in one lane type and read in
+    /// another would stall on every vector).
+    #[inline]
+    fn intersect_rays_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &[Ray],
+        mask: u32,
+        stats: &mut S,
+    ) -> HitPacket<F> {
+        self.intersect_packet_counted(&RayPacket::<F>::from_rays_masked(rays, mask), stats)
+    }
+
+    /// The occluded lanes of up to `F::LANES` rays traced as one packet, as
+    /// [`intersect_rays_counted`](Self::intersect_rays_counted).
+    #[inline]
+    fn occluded_rays_counted<F: SimdFloat, S: Counter>(&self, rays: &[Ray], mask: u32, stats: &mut S) -> F {
+        self.occluded_packet_counted(&RayPacket::<F>::from_rays_masked(rays, mask), stats)
+    }
+
     /// The nearest hits of the rays whose bit is set in `active`, one ray at
     /// a time, into `hits` (the other records are left alone); ray `i`'s work
     /// is reported after `stats.lane(i)`. The same answers as

@@ -16,7 +16,6 @@
 use std::marker::PhantomData;
 
 use crate::accel::Accel;
-use crate::packet::RayPacket;
 use crate::ray::Hit;
 use crate::render::batch::{Hits, Rays};
 use crate::render::counting::TileCounter;
@@ -78,8 +77,7 @@ impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
                 continue;
             }
             counter.batch_lanes(first);
-            let hits =
-                accel.intersect_packet_counted(&RayPacket::<F>::from_rays_masked(chunk, mask), counter);
+            let hits = accel.intersect_rays_counted::<F, C>(chunk, mask, counter);
             // Unpack each vector once rather than lane by lane.
             let (t, prim, u, v) = (
                 hits.t.to_array(),
@@ -106,8 +104,7 @@ impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
             let mask = active >> first & ((1u32 << chunk.len()) - 1);
             if mask != 0 {
                 counter.batch_lanes(first);
-                let lanes =
-                    accel.occluded_packet_counted(&RayPacket::<F>::from_rays_masked(chunk, mask), counter);
+                let lanes = accel.occluded_rays_counted::<F, C>(chunk, mask, counter);
                 blocked |= (lanes.bitmask() & mask) << first;
             }
         }

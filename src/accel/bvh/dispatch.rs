@@ -151,3 +151,70 @@ pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>,
     }
     on_level(bvh, Task(bvh, rays, stats))
 }
+
+/// [`Accel::intersect_rays_counted`](crate::accel::Accel::intersect_rays_counted):
+/// the packet is made in the level's lanes, inside its entry point.
+#[inline(always)]
+pub fn intersect_rays<F: SimdFloat, S: Counter>(
+    bvh: &Bvh,
+    rays: &[Ray],
+    mask: u32,
+    stats: &mut S,
+) -> HitPacket<F> {
+    struct Task<'a, S>(&'a Bvh, &'a [Ray], u32, &'a mut S);
+    impl<S: Counter> Task<'_, S> {
+        #[inline(always)]
+        fn trace<G: SimdFloat>(self) -> HitPacket<G> {
+            let Task(bvh, rays, mask, stats) = self;
+            traverse_packet::intersect_packet(bvh, &RayPacket::<G>::from_rays_masked(rays, mask), stats)
+        }
+    }
+    struct Width<'a, F, S>(Task<'a, S>, std::marker::PhantomData<F>);
+    impl<F: SimdFloat, S: Counter> LevelTask for Width<'_, F, S> {
+        type Output = HitPacket<F>;
+        #[inline(always)]
+        fn run<L: Level>(self) -> HitPacket<F> {
+            match F::LANES {
+                4 => self.0.trace::<L::F4>().convert(),
+                8 => self.0.trace::<L::F8>().convert(),
+                16 => self.0.trace::<L::F16>().convert(),
+                _ => self.0.trace::<F>(),
+            }
+        }
+    }
+    on_level(
+        bvh,
+        Width::<F, S>(Task(bvh, rays, mask, stats), std::marker::PhantomData),
+    )
+}
+
+/// [`Accel::occluded_rays_counted`](crate::accel::Accel::occluded_rays_counted),
+/// as [`intersect_rays`].
+#[inline(always)]
+pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut S) -> F {
+    struct Task<'a, S>(&'a Bvh, &'a [Ray], u32, &'a mut S);
+    impl<S: Counter> Task<'_, S> {
+        #[inline(always)]
+        fn trace<G: SimdFloat>(self) -> G {
+            let Task(bvh, rays, mask, stats) = self;
+            occlusion::occluded_packet(bvh, &RayPacket::<G>::from_rays_masked(rays, mask), stats)
+        }
+    }
+    struct Width<'a, F, S>(Task<'a, S>, std::marker::PhantomData<F>);
+    impl<F: SimdFloat, S: Counter> LevelTask for Width<'_, F, S> {
+        type Output = F;
+        #[inline(always)]
+        fn run<L: Level>(self) -> F {
+            match F::LANES {
+                4 => self.0.trace::<L::F4>().convert(),
+                8 => self.0.trace::<L::F8>().convert(),
+                16 => self.0.trace::<L::F16>().convert(),
+                _ => self.0.trace::<F>(),
+            }
+        }
+    }
+    on_level(
+        bvh,
+        Width::<F, S>(Task(bvh, rays, mask, stats), std::marker::PhantomData),
+    )
+}

@@ -324,6 +324,21 @@ impl Accel for Bvh {
     }
 
     #[inline]
+    fn intersect_rays_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &[Ray],
+        mask: u32,
+        stats: &mut S,
+    ) -> HitPacket<F> {
+        dispatch::intersect_rays(self, rays, mask, stats)
+    }
+
+    #[inline]
+    fn occluded_rays_counted<F: SimdFloat, S: Counter>(&self, rays: &[Ray], mask: u32, stats: &mut S) -> F {
+        dispatch::occluded_rays(self, rays, mask, stats)
+    }
+
+    #[inline]
     fn intersect_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
         dispatch::intersect_each(self, rays, active, hits, stats)
     }
