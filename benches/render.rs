@@ -19,7 +19,7 @@ use raypack::render::{Block, KernelKind, Mode, RenderSettings, Sampling, render}
 #[global_allocator]
 static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
 
-const KERNELS: [KernelKind; 2] = [KernelKind::Scalar, KernelKind::Packet8];
+const KERNELS: [KernelKind; 3] = [KernelKind::Scalar, KernelKind::Packet8, KernelKind::Packet16];
 
 fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
@@ -41,7 +41,7 @@ fn primary(c: &mut Criterion) {
         let accel = BruteForce::new(&scene.primitives);
         let frame = PrimaryFrame::new(&camera, 16);
         group.throughput(Throughput::Elements(frame.rays()));
-        for block in [Block::B4x2, Block::B8x1] {
+        for block in [Block::B4x4, Block::B8x2] {
             for kernel in KERNELS {
                 for threads in [1, 2] {
                     let pool = pool(threads);
@@ -68,7 +68,7 @@ fn whitted(c: &mut Criterion) {
         let settings = RenderSettings {
             mode: Mode::Whitted,
             kernel,
-            block: Block::B4x2,
+            block: Block::B4x4,
             tile_size: 16,
             max_depth: 5,
             sampling: Sampling::PixelCentres,

@@ -27,6 +27,9 @@ pub struct RayPacket<F: SimdFloat> {
 
 /// The 8-wide ray packet.
 pub type RayPacket8 = RayPacket<wide::f32x8>;
+
+/// A 16-ray packet.
+pub type RayPacket16 = RayPacket<wide::f32x16>;
 /// The 8-wide hit packet.
 pub type HitPacket8 = HitPacket<wide::f32x8>;
 

@@ -5,10 +5,11 @@
 //!
 //! Every kind is made once, before timing, from a seed, so every engine traces
 //! the same rays. Primary rays go through pixel centres in 16×16 tiles of
-//! 4×2-pixel packets; the secondary kinds start at the primary hit points
-//! (found with raypack's BVH, untimed), one ray per hit, and are packed as
-//! their primary rays are: a packet holds the secondary rays of one 4×2-pixel
-//! block, its lanes whose primary ray missed inactive. Their origins are
+//! 4×4-pixel blocks, each one 16-wide packet or two 8-wide ones (4×2 pixels);
+//! the secondary kinds start at the primary hit points (found with raypack's
+//! BVH, untimed), one ray per hit, and are packed as their primary rays are: a
+//! packet holds the secondary rays of its pixels, its lanes whose primary ray
+//! missed inactive. Their origins are
 //! pushed off the surface along the facing normal by the scene's
 //! [`epsilon_for`], which is also their `t_min`.
 
@@ -18,7 +19,7 @@ use crate::accel::{Accel, Bvh};
 use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::geometry::Primitive;
-use crate::packet::RayPacket8;
+use crate::packet::{RayPacket, RayPacket8, RayPacket16};
 use crate::ray::Ray;
 use crate::render::whitted::epsilon_for;
 use crate::rng::Rng;
@@ -77,30 +78,62 @@ pub enum Query {
     AnyHit,
 }
 
-/// The rays of one kind, one by one and in 8-ray packets (the same rays).
+/// Rays per block: a 16-wide packet, or two 8-wide ones.
+const BLOCK: usize = 16;
+
+/// A block's rays and the mask of those that take part.
+type Block = ([Ray; BLOCK], u32);
+
+/// The rays of one kind, one by one and in 8- and 16-ray packets (the same rays).
 #[derive(Clone, Debug)]
 pub struct RaySet {
     /// Their kind.
     pub kind: RayKind,
     /// The rays, packet by packet in lane order.
     pub rays: Vec<Ray>,
-    /// The same rays in packets (inactive lanes where a block has fewer).
+    /// The same rays in 8-ray packets (inactive lanes where a block has fewer).
     pub packets: Vec<RayPacket8>,
+    /// The same rays in 16-ray packets: each block whole.
+    pub packets16: Vec<RayPacket16>,
 }
 
 impl RaySet {
-    /// A set of `kind` from packets of up to 8 rays, given as (rays, active mask).
-    fn from_blocks(kind: RayKind, blocks: impl IntoIterator<Item = ([Ray; 8], u32)>) -> Self {
-        let mut rays = Vec::new();
-        let mut packets = Vec::new();
+    /// A set of `kind` from blocks of up to 16 rays.
+    fn from_blocks(kind: RayKind, blocks: impl IntoIterator<Item = Block>) -> Self {
+        let mut set = Self {
+            kind,
+            rays: Vec::new(),
+            packets: Vec::new(),
+            packets16: Vec::new(),
+        };
         for (lanes, mask) in blocks {
             if mask == 0 {
                 continue;
             }
-            rays.extend((0..8).filter(|i| mask & (1 << i) != 0).map(|i| lanes[i]));
-            packets.push(RayPacket8::from_rays_masked(&lanes, mask));
+            set.rays
+                .extend((0..BLOCK).filter(|i| mask & (1 << i) != 0).map(|i| lanes[i]));
+            for (half, rays) in lanes.chunks(8).enumerate() {
+                let half_mask = mask >> (8 * half) & 0xff;
+                if half_mask != 0 {
+                    set.packets.push(RayPacket8::from_rays_masked(rays, half_mask));
+                }
+            }
+            set.packets16.push(RayPacket16::from_rays_masked(&lanes, mask));
         }
-        Self { kind, rays, packets }
+        set
+    }
+
+    /// A set of `kind` from `rays` in order, packed as they come.
+    fn from_rays(kind: RayKind, rays: Vec<Ray>) -> Self {
+        fn packed<F: crate::simd::SimdFloat>(rays: &[Ray]) -> Vec<RayPacket<F>> {
+            rays.chunks(F::LANES).map(RayPacket::from_rays).collect()
+        }
+        Self {
+            kind,
+            packets: packed(&rays),
+            packets16: packed(&rays),
+            rays,
+        }
     }
 }
 
@@ -143,14 +176,10 @@ impl RaySource<'_> {
             .iter()
             .map(|&kind| match kind {
                 RayKind::Primary => RaySet::from_blocks(kind, blocks.iter().copied()),
-                RayKind::Random => {
-                    let rays = crate::compare::ray_sets::uniform_rays(self.bounds, self.random, self.seed);
-                    RaySet {
-                        kind,
-                        packets: rays.chunks(8).map(RayPacket8::from_rays).collect(),
-                        rays,
-                    }
-                }
+                RayKind::Random => RaySet::from_rays(
+                    kind,
+                    crate::compare::ray_sets::uniform_rays(self.bounds, self.random, self.seed),
+                ),
                 RayKind::Shadow | RayKind::Ao | RayKind::Diffuse => {
                     // One generator per kind, so a kind's rays do not depend on the others asked for.
                     let mut rng = Rng::new(self.seed ^ (kind as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15));
@@ -183,14 +212,14 @@ impl RaySource<'_> {
             .collect()
     }
 
-    /// The primary rays of the camera, tile by tile, 4×2-pixel block by block.
-    fn primary_blocks(&self) -> Vec<([Ray; 8], u32)> {
+    /// The primary rays of the camera, tile by tile, 4×4-pixel block by block.
+    fn primary_blocks(&self) -> Vec<Block> {
         let camera = self.camera;
         let (w, h) = (camera.width, camera.height);
-        let mut blocks = Vec::with_capacity((w * h) as usize / 8);
+        let mut blocks = Vec::with_capacity((w * h) as usize / BLOCK);
         for ty in (0..h).step_by(16) {
             for tx in (0..w).step_by(16) {
-                for py in (ty..(ty + 16).min(h)).step_by(2) {
+                for py in (ty..(ty + 16).min(h)).step_by(4) {
                     for px in (tx..(tx + 16).min(w)).step_by(4) {
                         let mut mask = 0;
                         let lanes = std::array::from_fn(|k| {
@@ -211,7 +240,7 @@ impl RaySource<'_> {
     }
 
     /// Per primary ray of each block: its hit point and the normal facing it, if it hit.
-    fn surfaces(&self, blocks: &[([Ray; 8], u32)]) -> Vec<[Option<(Vec3, Vec3)>; 8]> {
+    fn surfaces(&self, blocks: &[Block]) -> Vec<[Option<(Vec3, Vec3)>; BLOCK]> {
         use rayon::prelude::*;
         let bvh = Bvh::new(self.prims);
         blocks
@@ -267,12 +296,21 @@ mod tests {
         let sets = source.make(&RayKind::ALL);
         assert_eq!(sets[0].rays.len(), 800);
         assert_eq!(sets[4].packets.len(), 13);
+        assert_eq!(sets[4].packets16.len(), 7);
+        // 40 × 20 pixels: 10 × 5 blocks of 4×4, each one 16-wide packet or two 8-wide ones.
+        assert_eq!(sets[0].packets16.len(), 50);
+        assert_eq!(sets[0].packets.len(), 100);
         for set in &sets {
-            let lanes = set
+            let lanes8 = set
                 .packets
                 .iter()
                 .flat_map(|p| (0..8).filter(|&i| p.is_active(i)).map(|i| p.ray(i)));
-            assert!(lanes.eq(set.rays.iter().copied()), "{:?}", set.kind);
+            assert!(lanes8.eq(set.rays.iter().copied()), "{:?}", set.kind);
+            let lanes16 = set
+                .packets16
+                .iter()
+                .flat_map(|p| (0..16).filter(|&i| p.is_active(i)).map(|i| p.ray(i)));
+            assert!(lanes16.eq(set.rays.iter().copied()), "{:?}", set.kind);
         }
         // The secondary kinds start at the primary hits, and some primary rays miss.
         for set in &sets[1..4] {

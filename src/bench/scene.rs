@@ -18,12 +18,14 @@ use crate::accel::Accel;
 use crate::accel::stats::NoStats;
 use crate::bench::rays::RaySet;
 use crate::bench::slowdown::Slowdown;
-use crate::bench::traversal::{trace_packets, trace_single};
+use crate::bench::traversal::{trace_packets, trace_packets16, trace_single};
 use crate::camera::Camera;
 use crate::render::kernel::TraceKernel;
 use crate::render::tiles::{self, Tile};
 use crate::render::whitted::lanes;
-use crate::render::{Block, Grid, KernelKind, Packet8Kernel, Sampling, ScalarKernel, for_each_block};
+use crate::render::{
+    Block, Grid, KernelKind, Packet8Kernel, Packet16Kernel, Sampling, ScalarKernel, for_each_block,
+};
 use crate::statistics::Summary;
 
 /// A kernel, pixel block and thread count to measure. 16 bytes.
@@ -99,6 +101,7 @@ impl PrimaryFrame {
         match kernel {
             KernelKind::Scalar => self.trace_with::<ScalarKernel, A>(accel, block, pool),
             KernelKind::Packet8 => self.trace_with::<Packet8Kernel, A>(accel, block, pool),
+            KernelKind::Packet16 => self.trace_with::<Packet16Kernel, A>(accel, block, pool),
         }
     }
 
@@ -138,8 +141,8 @@ pub struct Unit<'a> {
 pub enum Rays<'a> {
     /// The primary rays of a frame, through the tile scheduler in the variant's blocks.
     Primary(&'a PrimaryFrame),
-    /// A ray set: one by one for the scalar kernel, in its 8-ray packets
-    /// (4×2-pixel blocks; the variant's block must be [`Block::B4x2`]) for the packet kernel.
+    /// A ray set: one by one for the scalar kernel, in its 8- or 16-ray packets
+    /// (4×4-pixel blocks; the variant's block must be [`Block::B4x4`]) for the packet kernels.
     Set(&'a RaySet),
 }
 
@@ -160,9 +163,9 @@ pub fn units<'a, A: Accel>(
     variants: &[Variant],
     engine: usize,
 ) -> Result<Vec<Unit<'a>>, String> {
-    if let (Rays::Set(set), Some(v)) = (rays, variants.iter().find(|v| v.block != Block::B4x2)) {
+    if let (Rays::Set(set), Some(v)) = (rays, variants.iter().find(|v| v.block != Block::B4x4)) {
         return Err(format!(
-            "{v:?}: {} rays are packed in 4x2 blocks",
+            "{v:?}: {} rays are packed in 4x4 blocks",
             set.kind.name()
         ));
     }
@@ -177,6 +180,7 @@ pub fn units<'a, A: Accel>(
                     pool.install(|| match variant.kernel {
                         KernelKind::Scalar => trace_single(accel, set),
                         KernelKind::Packet8 => trace_packets(accel, set),
+                        KernelKind::Packet16 => trace_packets16(accel, set),
                     })
                 }),
             };

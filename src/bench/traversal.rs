@@ -28,11 +28,12 @@ use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::engine::{EmbreeIsa, Engine};
 use crate::geometry::Primitive;
+use crate::packet::RayPacket;
 use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
 use crate::simd::SimdFloat;
 use crate::statistics::Summary;
 
-/// Rays per tile: 16×16 pixels, 32 packets of 4×2.
+/// Rays per tile: 16×16 pixels, 32 packets of 4×2 or 16 of 4×4.
 pub const TILE_RAYS: usize = 256;
 
 /// A scene and the rays it is measured on.
@@ -140,12 +141,22 @@ pub fn trace_single(accel: &impl Accel, set: &RaySet) -> u64 {
         .sum()
 }
 
-/// Trace the packets of `set` with its kind's query, tiles spread over the
-/// current rayon pool; returns how many rays hit.
+/// Trace the 8-ray packets of `set` with its kind's query, tiles spread over
+/// the current rayon pool; returns how many rays hit.
 pub fn trace_packets(accel: &impl Accel, set: &RaySet) -> u64 {
-    let query = set.kind.query();
-    set.packets
-        .par_chunks(TILE_RAYS / 8)
+    trace_packed(accel, &set.packets, set.kind.query())
+}
+
+/// [`trace_packets`] with the 16-ray packets of `set`.
+pub fn trace_packets16(accel: &impl Accel, set: &RaySet) -> u64 {
+    trace_packed(accel, &set.packets16, set.kind.query())
+}
+
+/// Trace `packets` with `query`, tiles spread over the current rayon pool;
+/// returns how many rays hit.
+fn trace_packed<F: SimdFloat>(accel: &impl Accel, packets: &[RayPacket<F>], query: Query) -> u64 {
+    packets
+        .par_chunks(TILE_RAYS / F::LANES)
         .map(|tile| {
             tile.iter()
                 .map(|p| {

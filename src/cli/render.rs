@@ -35,8 +35,8 @@ pub struct Args {
     /// Trace rays one at a time or in 8-wide packets.
     #[arg(long, value_enum, default_value_t = KernelKind::Packet8)]
     pub kernel: KernelKind,
-    /// Pixel block traced as one packet.
-    #[arg(long, value_enum, default_value_t = Block::B4x2)]
+    /// Pixel block traced as one batch (one 16-wide packet, or two 8-wide ones).
+    #[arg(long, value_enum, default_value_t = Block::B4x4)]
     pub block: Block,
     /// Tile edge in pixels (tiles are scheduled with rayon's work stealing).
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]

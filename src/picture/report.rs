@@ -30,7 +30,7 @@ pub struct RenderReport {
     pub mode: Mode,
     /// Kernel.
     pub kernel: KernelKind,
-    /// Pixel block per packet.
+    /// Pixel block per batch.
     pub block: Block,
     /// The instruction set raypack's kernels ran on (`--isa`).
     pub isa: &'static str,

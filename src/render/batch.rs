@@ -1,11 +1,11 @@
 //! The unit of work of a trace kernel: a batch of rays (one pixel block, one
-//! 8-wide packet) with a lane mask. Counting and kernels both speak of batch
+//! 16-wide packet or two 8-wide ones) with a lane mask. Counting and kernels both speak of batch
 //! lanes, so the batch is defined below both.
 
 use crate::ray::{Hit, Ray};
 
-/// Rays per batch: one 4×2 or 8×1 pixel block, one 8-wide packet.
-pub const BATCH: usize = 8;
+/// Rays per batch: one 4×4 or 8×2 pixel block, the widest packet.
+pub const BATCH: usize = 16;
 
 /// A batch of rays; lane `i` takes part where bit `i` of the mask is set.
 pub type Rays = [Ray; BATCH];

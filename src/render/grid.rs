@@ -97,7 +97,7 @@ mod tests {
     #[test]
     fn blocks_cover_every_pixel_of_a_tile_once_with_its_own_ray() {
         let grid = Grid::new(camera(), Sampling::PixelCentres);
-        for block in [Block::B4x2, Block::B8x1] {
+        for block in [Block::B4x4, Block::B8x2] {
             for size in [3, 5, 16] {
                 for tile in tiles(grid.width, grid.height, size) {
                     let mut seen = vec![0; tile.pixels()];

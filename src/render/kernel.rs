@@ -56,15 +56,18 @@ impl TraceKernel for ScalarKernel {
 
 /// SIMD packets of `F::LANES` rays: [`Accel::intersect_packet`] and
 /// [`Accel::occluded_packet`]. A batch is cut into `BATCH / F::LANES` packets
-/// (one for `f32x8`); lanes past the batch are inactive.
+/// (two for `f32x8`, one for `f32x16`); lanes past the batch are inactive.
 ///
 /// [`Accel::intersect_packet`]: crate::accel::Accel::intersect_packet
 /// [`Accel::occluded_packet`]: crate::accel::Accel::occluded_packet
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PacketKernel<F>(PhantomData<F>);
 
-/// The engine's packet kernel: 8 lanes, one packet per batch.
+/// The engine's 8-wide packet kernel: two packets per batch.
 pub type Packet8Kernel = PacketKernel<wide::f32x8>;
+
+/// The 16-wide packet kernel: one packet per batch.
+pub type Packet16Kernel = PacketKernel<wide::f32x16>;
 
 impl<F: SimdFloat> TraceKernel for PacketKernel<F> {
     #[inline]
@@ -133,7 +136,7 @@ mod tests {
             .collect()
     }
 
-    /// Both kernels (and a 4-wide packet kernel) give the same records and
+    /// Every kernel (and a 4-wide packet kernel) gives the same records and
     /// occlusion masks, lane by lane; inactive lanes are never hit or blocked.
     fn check(accel: &BruteForce, rays: &Rays, active: u32) {
         let a = ScalarKernel::intersect(accel, rays, active, &mut NoStats);
@@ -144,12 +147,22 @@ mod tests {
         );
         assert_eq!(
             a,
+            Packet16Kernel::intersect(accel, rays, active, &mut NoStats),
+            "{rays:?} {active:b}"
+        );
+        assert_eq!(
+            a,
             PacketKernel::<wide::f32x4>::intersect(accel, rays, active, &mut NoStats)
         );
         let blocked = ScalarKernel::occluded(accel, rays, active, &mut NoStats);
         assert_eq!(
             blocked,
             Packet8Kernel::occluded(accel, rays, active, &mut NoStats),
+            "{rays:?}"
+        );
+        assert_eq!(
+            blocked,
+            Packet16Kernel::occluded(accel, rays, active, &mut NoStats),
             "{rays:?}"
         );
         assert_eq!(
@@ -169,7 +182,7 @@ mod tests {
         let mut rng = Rng::new(7);
         let prims = cloud(&mut rng);
         let accel = BruteForce::new(&prims);
-        for _ in 0..125_000 {
+        for _ in 0..1_000_000 / BATCH {
             let rays: Rays = std::array::from_fn(|_| {
                 let o = 8.0 * rng.unit_vector();
                 let d = (rng.point_in(Vec3::splat(-3.0), Vec3::splat(3.0)) - o).normalize();
@@ -184,7 +197,7 @@ mod tests {
     fn scalar_and_packet_batches_agree_on_edge_cases() {
         let prims = vec![Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0))];
         let accel = BruteForce::new(&prims);
-        let rays: Rays = [
+        let edge_cases = [
             Ray::unbounded(Vec3::new(-5.0, 1.0, 0.0), Vec3::X), // tangent
             Ray::unbounded(Vec3::ZERO, Vec3::Y),                // inside
             Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z, 3.0, 2.0), // empty interval
@@ -194,7 +207,9 @@ mod tests {
             Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z, 0.0, 3.9), // stops short
             Ray::unbounded(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z),     // head-on
         ];
-        for active in [ALL_LANES, 0, 0b1010_1010, 0b0101_0101] {
+        // Twice over: in each half of the batch (each 8-wide packet).
+        let rays: Rays = std::array::from_fn(|i| edge_cases[i % edge_cases.len()]);
+        for active in [ALL_LANES, 0, 0xaaaa, 0x5555, 0x00ff, 0xff00] {
             check(&accel, &rays, active);
         }
         let hits = ScalarKernel::intersect(&accel, &rays, ALL_LANES, &mut NoStats);

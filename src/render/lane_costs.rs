@@ -12,7 +12,7 @@ use crate::render::batch::BATCH;
 use crate::simd::{SimdFloat, SimdU32};
 
 /// Traversal totals plus each batch lane's cost (node visits plus primitive
-/// tests). 144 bytes.
+/// tests). 208 bytes.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LaneCosts {
     total: TraversalStats,
@@ -97,7 +97,7 @@ impl Counter for LaneCosts {
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
-    use wide::{f32x4, f32x8};
+    use wide::{f32x4, f32x8, f32x16};
 
     use super::*;
     use crate::accel::{Accel, Bvh};
@@ -117,7 +117,9 @@ mod tests {
         c.lane(2); // packet lane 2 finishes alone: batch lane 6
         c.node();
         c.prim();
-        assert_eq!(c.take(), [0, 0, 0, 0, 1, 1, 2, 1]);
+        let mut expected = [0; BATCH];
+        expected[4..8].copy_from_slice(&[1, 1, 2, 1]);
+        assert_eq!(c.take(), expected);
         assert_eq!(c.take(), [0; BATCH]);
         assert_eq!(c.total().nodes_visited, 4);
         assert_eq!(c.total().prim_tests, 1);
@@ -139,19 +141,21 @@ mod tests {
             });
             let active = 1 + rng.below((1 << BATCH) - 1);
             let mut direct = TraversalStats::default();
-            let packet = RayPacket::<f32x8>::from_rays_masked(&rays, active);
+            let packet = RayPacket::<f32x16>::from_rays_masked(&rays, active);
             bvh.intersect_packet_counted(&packet, &mut direct);
             bvh.occluded_packet_counted(&packet, &mut direct);
             let mut lanes = LaneCosts::default();
-            PacketKernel::<f32x8>::intersect(&bvh, &rays, active, &mut lanes);
-            PacketKernel::<f32x8>::occluded(&bvh, &rays, active, &mut lanes);
+            PacketKernel::<f32x16>::intersect(&bvh, &rays, active, &mut lanes);
+            PacketKernel::<f32x16>::occluded(&bvh, &rays, active, &mut lanes);
             assert_eq!(*lanes.total(), direct);
             let cost = lanes.take();
             assert_eq!(cost.iter().sum::<u64>(), direct.nodes_visited + direct.prim_tests);
             assert!((0..BATCH).all(|i| active >> i & 1 == 1 || cost[i] == 0));
 
-            // Two 4-wide packets per batch, and the scalar kernel: lane sums match too.
+            // Two 8-wide or four 4-wide packets per batch, and the scalar
+            // kernel: lane sums match too.
             for costs in [
+                lane_sum::<PacketKernel<f32x8>>(&bvh, &rays, active),
                 lane_sum::<PacketKernel<f32x4>>(&bvh, &rays, active),
                 lane_sum::<ScalarKernel>(&bvh, &rays, active),
             ] {

@@ -3,10 +3,10 @@
 //!
 //! [`render`] traces a grid of primary rays (pixel centres for images, pixel
 //! corners for the SPD's statistics) tile by tile. Inside a tile the rays go in
-//! batches of 8, a 4×2 or 8×1 pixel block, through a [`TraceKernel`]: every query
-//! of a batch, primary, reflection, refraction or shadow, is one packet query
-//! with a lane mask (or 8 scalar queries), and the shading between queries is the
-//! same scalar code for both kernels. Scalar and packet renders therefore trace
+//! batches of 16, a 4×4 or 8×2 pixel block, through a [`TraceKernel`]: every query
+//! of a batch, primary, reflection, refraction or shadow, is one 16-wide packet
+//! query with a lane mask (or two 8-wide ones, or 16 scalar queries), and the
+//! shading between queries is the same scalar code for every kernel. Scalar and packet renders therefore trace
 //! the same rays and give the same images and ray counts.
 //!
 //! [`render_counted`] also counts the traversal work of every ray ([`counting`]):
@@ -38,7 +38,7 @@ use glam::Vec3;
 pub use counting::{Counting, Traversal};
 pub use frame::Frame;
 pub use grid::{Grid, for_each_block};
-pub use kernel::{Packet8Kernel, PacketKernel, ScalarKernel, TraceKernel};
+pub use kernel::{Packet8Kernel, Packet16Kernel, PacketKernel, ScalarKernel, TraceKernel};
 pub use settings::{Block, KernelKind, Mode, RenderSettings, Sampling};
 pub use stats::RayCounts;
 pub use tiles::Tile;
@@ -133,6 +133,7 @@ impl<A: Accel, T: Fn() + Sync> Job<'_, A, T> {
         match self.settings.kernel {
             KernelKind::Scalar => self.traced::<ScalarKernel, C>(),
             KernelKind::Packet8 => self.traced::<Packet8Kernel, C>(),
+            KernelKind::Packet16 => self.traced::<Packet16Kernel, C>(),
         }
     }
 

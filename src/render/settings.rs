@@ -35,8 +35,11 @@ impl Mode {
 pub enum KernelKind {
     /// One ray at a time.
     Scalar,
-    /// 8-wide SIMD packets.
+    /// 8-wide SIMD packets: a batch's 4×4 (8×2) block as two 4×2 (8×1) packets.
     Packet8,
+    /// 16-wide SIMD packets: a batch's whole block in one packet (one register
+    /// per vector with AVX-512, two elsewhere).
+    Packet16,
 }
 
 impl KernelKind {
@@ -45,37 +48,39 @@ impl KernelKind {
         match self {
             KernelKind::Scalar => "scalar",
             KernelKind::Packet8 => "packet8",
+            KernelKind::Packet16 => "packet16",
         }
     }
 }
 
-/// The pixel block traced as one batch (one packet).
+/// The pixel block traced as one batch of 16 rays: one 16-wide packet, or
+/// two 8-wide ones of its upper and lower halves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 pub enum Block {
-    /// 4 pixels wide, 2 high.
-    #[value(name = "4x2")]
-    #[serde(rename = "4x2")]
-    B4x2,
-    /// 8 pixels wide, 1 high.
-    #[value(name = "8x1")]
-    #[serde(rename = "8x1")]
-    B8x1,
+    /// 4 pixels wide, 4 high (8-wide packets of 4×2).
+    #[value(name = "4x4")]
+    #[serde(rename = "4x4")]
+    B4x4,
+    /// 8 pixels wide, 2 high (8-wide packets of 8×1).
+    #[value(name = "8x2")]
+    #[serde(rename = "8x2")]
+    B8x2,
 }
 
 impl Block {
     /// `(width, height)` in pixels.
     pub fn dims(self) -> (u32, u32) {
         match self {
-            Block::B4x2 => (4, 2),
-            Block::B8x1 => (8, 1),
+            Block::B4x4 => (4, 4),
+            Block::B8x2 => (8, 2),
         }
     }
 
     /// Name in reports.
     pub fn name(self) -> &'static str {
         match self {
-            Block::B4x2 => "4x2",
-            Block::B8x1 => "8x1",
+            Block::B4x4 => "4x4",
+            Block::B8x2 => "8x2",
         }
     }
 }
@@ -111,7 +116,7 @@ impl Default for RenderSettings {
         Self {
             mode: Mode::Whitted,
             kernel: KernelKind::Packet8,
-            block: Block::B4x2,
+            block: Block::B4x4,
             tile_size: 16,
             max_depth: 5,
             sampling: Sampling::PixelCentres,

@@ -28,7 +28,7 @@ pub fn spd_settings(kernel: KernelKind) -> RenderSettings {
     RenderSettings {
         mode: Mode::Whitted,
         kernel,
-        block: Block::B4x2,
+        block: Block::B4x4,
         tile_size: 16,
         max_depth: SPD_DEPTH,
         sampling: Sampling::PixelCorners,

@@ -232,7 +232,7 @@ impl<F: SimdFloat> V3<F> {
     }
 
     /// Lane `i` as a `glam::Vec3`.
-    #[inline]
+    #[inline(always)]
     pub fn lane(&self, i: usize) -> glam::Vec3 {
         glam::Vec3::new(
             self.x.to_array().as_ref()[i],

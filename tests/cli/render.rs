@@ -76,7 +76,8 @@ fn bad_options_are_rejected() {
         vec!["render", "s.nff", "--tile", "0"],
         vec!["render", "s.nff", "--size", "0x10"],
         vec!["render", "s.nff", "--size", "100"],
-        vec!["render", "s.nff", "--kernel", "packet16"],
+        vec!["render", "s.nff", "--kernel", "packet32"],
+        vec!["render", "s.nff", "--block", "4x2"],
         vec!["render", "s.nff", "--depth", "0"],
         vec!["bench", "scene", "s.nff", "--threads", "1,0"],
         vec!["stats", "s.nff"],
@@ -113,7 +114,7 @@ fn every_scene_file_renders_in_every_mode() {
             let settings = RenderSettings {
                 mode,
                 kernel: KernelKind::Packet8,
-                block: Block::B4x2,
+                block: Block::B4x4,
                 tile_size: 16,
                 max_depth: 5,
                 sampling: Sampling::PixelCentres,
@@ -156,6 +157,39 @@ fn the_first_scene_file_renders_through_the_command_line_with_a_sidecar() {
     assert_eq!(report["width"], 64);
     assert_eq!(report["rays"]["eye_rays"], 64 * 48);
     assert_eq!(report["threads"], 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn every_kernel_renders_the_same_counts_through_the_command_line() {
+    let Some(path) = scene_files().into_iter().next() else {
+        return;
+    };
+    let dir = scratch("kernels");
+    let mut seen = Vec::new();
+    for (kernel, block) in [("scalar", "4x4"), ("packet8", "8x2"), ("packet16", "4x4")] {
+        let json = dir.join(format!("{kernel}.json"));
+        let o = raypack(&[
+            "render",
+            path.to_str().unwrap(),
+            "-o",
+            dir.join(format!("{kernel}.png")).to_str().unwrap(),
+            "--size",
+            "40x30",
+            "--kernel",
+            kernel,
+            "--block",
+            block,
+            "--stats-json",
+            json.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{kernel}: {}", stderr(&o));
+        let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        assert_eq!(report["kernel"], kernel);
+        assert_eq!(report["block"], block);
+        seen.push(report["rays"].clone());
+    }
+    assert!(seen.iter().all(|r| *r == seen[0]), "{seen:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -68,11 +68,13 @@ fn scalar_and_packet_renders_are_identical_in_id_and_depth_modes() {
         scene.camera.as_mut().unwrap().width = 97;
         scene.camera.as_mut().unwrap().height = 61;
         for mode in [Mode::Id, Mode::Depth] {
-            for (block, tile) in [(Block::B4x2, 16), (Block::B8x1, 7)] {
+            for (block, tile) in [(Block::B4x4, 16), (Block::B8x2, 7)] {
                 let scalar = run(&scene, settings(mode, KernelKind::Scalar, block, tile), 1);
-                let packet = run(&scene, settings(mode, KernelKind::Packet8, block, tile), 2);
                 let what = format!("seed {seed} {mode:?} {block:?} tile {tile}");
-                assert_same(&scalar, &packet, &what);
+                for kernel in [KernelKind::Packet8, KernelKind::Packet16] {
+                    let packet = run(&scene, settings(mode, kernel, block, tile), 2);
+                    assert_same(&scalar, &packet, &format!("{what} {kernel:?}"));
+                }
                 // The image is not trivially empty or full.
                 let hits = scalar.frame.prim.iter().filter(|&&p| p != u32::MAX).count();
                 assert!(
@@ -90,13 +92,15 @@ fn scalar_and_packet_renders_are_identical_in_id_and_depth_modes() {
 fn scalar_and_packet_renders_are_identical_in_every_mode() {
     let scene = support::render::mixed_scene(30, 9);
     for mode in [Mode::Cast, Mode::Normals, Mode::Whitted] {
-        let scalar = run(&scene, settings(mode, KernelKind::Scalar, Block::B4x2, 16), 2);
-        let packet = run(&scene, settings(mode, KernelKind::Packet8, Block::B4x2, 16), 1);
-        assert_same(&scalar, &packet, &format!("{mode:?}"));
+        let scalar = run(&scene, settings(mode, KernelKind::Scalar, Block::B4x4, 16), 2);
+        for kernel in [KernelKind::Packet8, KernelKind::Packet16] {
+            let packet = run(&scene, settings(mode, kernel, Block::B4x4, 16), 1);
+            assert_same(&scalar, &packet, &format!("{mode:?} {kernel:?}"));
+        }
     }
     let w = run(
         &scene,
-        settings(Mode::Whitted, KernelKind::Packet8, Block::B8x1, 5),
+        settings(Mode::Whitted, KernelKind::Packet8, Block::B8x2, 5),
         2,
     );
     // Every secondary ray kind occurs in the mixed scene.
@@ -113,19 +117,19 @@ fn images_do_not_depend_on_threads_tiles_or_blocks() {
     let scene = support::render::mixed_scene(25, 3);
     let reference = run(
         &scene,
-        settings(Mode::Whitted, KernelKind::Scalar, Block::B4x2, 64),
+        settings(Mode::Whitted, KernelKind::Scalar, Block::B4x4, 64),
         1,
     );
-    for (threads, tile, block) in [(2, 1, Block::B8x1), (3, 5, Block::B4x2), (2, 16, Block::B8x1)] {
-        let other = run(
-            &scene,
-            settings(Mode::Whitted, KernelKind::Packet8, block, tile),
-            threads,
-        );
+    for (threads, tile, block, kernel) in [
+        (2, 1, Block::B8x2, KernelKind::Packet8),
+        (3, 5, Block::B4x4, KernelKind::Packet16),
+        (2, 16, Block::B8x2, KernelKind::Packet16),
+    ] {
+        let other = run(&scene, settings(Mode::Whitted, kernel, block, tile), threads);
         assert_same(
             &reference,
             &other,
-            &format!("{threads} threads, tile {tile}, {block:?}"),
+            &format!("{threads} threads, tile {tile}, {block:?} {kernel:?}"),
         );
         assert_eq!(other.tiles.len(), other.tile_seconds.len());
         assert_eq!(other.tiles.len(), (64usize.div_ceil(tile as usize)).pow(2));

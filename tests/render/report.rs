@@ -18,7 +18,7 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
     let settings = RenderSettings {
         mode: Mode::Whitted,
         kernel: KernelKind::Packet8,
-        block: Block::B8x1,
+        block: Block::B8x2,
         tile_size: 16,
         max_depth: 4,
         sampling: Sampling::PixelCentres,
@@ -51,7 +51,7 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
     assert_eq!(json["scene"], "mixed-20-4");
     assert_eq!(json["engine"], "raypack");
     assert_eq!(json["kernel"], "packet8");
-    assert_eq!(json["block"], "8x1");
+    assert_eq!(json["block"], "8x2");
     assert_eq!(json["mode"], "whitted");
     assert_eq!(
         (json["width"].as_u64(), json["height"].as_u64()),
@@ -148,7 +148,7 @@ fn scene_bench_measures_every_variant_on_the_same_rays() {
     let frame = PrimaryFrame::new(&camera, 16);
     let mut variants = Vec::new();
     for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
-        for block in [Block::B4x2, Block::B8x1] {
+        for block in [Block::B4x4, Block::B8x2] {
             for threads in [1, 2] {
                 variants.push(Variant {
                     kernel,

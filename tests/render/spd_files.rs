@@ -64,6 +64,7 @@ fn small_spd_scenes_count_the_same_with_both_kernels() {
         };
         let scalar = counts(&path, KernelKind::Scalar);
         assert_eq!(scalar, counts(&path, KernelKind::Packet8), "{name}");
+        assert_eq!(scalar, counts(&path, KernelKind::Packet16), "{name}");
         assert_eq!(scalar.eye_rays, 513 * 513);
         assert!(
             scalar.eye_hits > 0 && scalar.shadow_rays > 0,

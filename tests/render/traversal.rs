@@ -10,7 +10,7 @@ use glam::Vec3;
 use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalStats};
 use raypack::camera::Camera;
 use raypack::geometry::{Primitive, Sphere};
-use raypack::packet::RayPacket8;
+use raypack::packet::{RayPacket8, RayPacket16};
 use raypack::picture::annotate::GAP;
 use raypack::picture::heat_map::{HeatMap, HeatMapKind};
 use raypack::render::tiles::tiles;
@@ -51,13 +51,25 @@ fn scalar_primary<A: Accel>(accel: &A, camera: &Camera) -> (TraversalStats, Vec<
 }
 
 /// The totals of tracing the primary rays as the renderer's packets: the same
-/// tiles and pixel blocks, one masked 8-wide packet per block.
+/// tiles and pixel blocks, one masked 16-wide packet per block, or one 8-wide
+/// packet per half block that has a pixel.
 fn packet_primary<A: Accel>(accel: &A, camera: &Camera, s: &RenderSettings) -> TraversalStats {
     let grid = Grid::new(*camera, s.sampling);
     let mut total = TraversalStats::default();
     for tile in tiles(grid.width, grid.height, s.tile_size) {
-        for_each_block(&grid, &tile, s.block, |rays, active, _| {
-            accel.intersect_packet_counted(&RayPacket8::from_rays_masked(rays, active), &mut total);
+        for_each_block(&grid, &tile, s.block, |rays, active, _| match s.kernel {
+            KernelKind::Packet16 => {
+                accel.intersect_packet_counted(&RayPacket16::from_rays_masked(rays, active), &mut total);
+            }
+            KernelKind::Packet8 => {
+                for (half, rays) in rays.chunks(8).enumerate() {
+                    let mask = active >> (8 * half) & 0xff;
+                    if mask != 0 {
+                        accel.intersect_packet_counted(&RayPacket8::from_rays_masked(rays, mask), &mut total);
+                    }
+                }
+            }
+            KernelKind::Scalar => unreachable!("packet kernels only"),
         });
     }
     total
@@ -103,7 +115,7 @@ fn ray_casting_counts_equal_the_primary_rays_traced_directly() {
     let bvh = Bvh::new(&scene.primitives);
     let brute = BruteForce::new(&scene.primitives);
     for mode in [Mode::Cast, Mode::Depth] {
-        for block in [Block::B4x2, Block::B8x1] {
+        for block in [Block::B4x4, Block::B8x2] {
             let what = format!("{mode:?} {block:?}");
             // Scalar: the same totals, and each pixel's cost is its ray's.
             let s = settings(mode, KernelKind::Scalar, block);
@@ -115,20 +127,23 @@ fn ray_casting_counts_equal_the_primary_rays_traced_directly() {
             assert_eq!(t.total.packets, 0);
             assert!(t.total.nodes_per_ray() > 1.0, "{what}: {:?}", t.total);
 
-            // Packets: the same totals as the same packets traced directly.
-            let p = settings(mode, KernelKind::Packet8, block);
-            let r = counted(&scene, &bvh, &camera, &p);
-            let t = r.traversal.unwrap();
-            assert_eq!(t.total, packet_primary(&bvh, &camera, &p), "{what}");
-            assert_eq!(t.total.rays, u64::from(camera.width * camera.height));
-            assert!(t.total.lane_utilisation() > 0.3 && t.total.lane_utilisation() <= 1.0);
+            for kernel in [KernelKind::Packet8, KernelKind::Packet16] {
+                let what = format!("{what} {kernel:?}");
+                // Packets: the same totals as the same packets traced directly.
+                let p = settings(mode, kernel, block);
+                let r = counted(&scene, &bvh, &camera, &p);
+                let t = r.traversal.unwrap();
+                assert_eq!(t.total, packet_primary(&bvh, &camera, &p), "{what}");
+                assert_eq!(t.total.rays, u64::from(camera.width * camera.height));
+                assert!(t.total.lane_utilisation() > 0.3 && t.total.lane_utilisation() <= 1.0);
 
-            // Brute force: every ray tests every primitive.
-            let r = counted(&scene, &brute, &camera, &p);
-            let t = r.traversal.unwrap();
-            assert_eq!(t.total, packet_primary(&brute, &camera, &p), "{what}");
-            assert_eq!(t.total.prims_per_ray(), scene.primitives.len() as f64);
-            assert_eq!(t.total.nodes_visited, 0);
+                // Brute force: every ray tests every primitive.
+                let r = counted(&scene, &brute, &camera, &p);
+                let t = r.traversal.unwrap();
+                assert_eq!(t.total, packet_primary(&brute, &camera, &p), "{what}");
+                assert_eq!(t.total.prims_per_ray(), scene.primitives.len() as f64);
+                assert_eq!(t.total.nodes_visited, 0);
+            }
         }
     }
 }
@@ -138,12 +153,12 @@ fn whitted_counts_every_ray_of_every_pixel_once() {
     let scene = support::render::mixed_scene(40, 8);
     let camera = scene.camera.unwrap().camera_at(48, 40).unwrap();
     let bvh = Bvh::new(&scene.primitives);
-    for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
+    for kernel in [KernelKind::Scalar, KernelKind::Packet8, KernelKind::Packet16] {
         let r = counted(
             &scene,
             &bvh,
             &camera,
-            &settings(Mode::Whitted, kernel, Block::B4x2),
+            &settings(Mode::Whitted, kernel, Block::B4x4),
         );
         assert!(r.counts.shadow_rays > 0 && r.counts.reflect_rays > 0 && r.counts.refract_rays > 0);
         let t = r.traversal.unwrap();
@@ -182,7 +197,7 @@ fn pixels_on_the_sphere_cost_more_than_the_background() {
                 &scene,
                 &accel,
                 &camera,
-                &settings(Mode::Whitted, kernel, Block::B4x2),
+                &settings(Mode::Whitted, kernel, Block::B4x4),
             );
             let cost = r.traversal.as_ref().unwrap().pixel_cost.clone().unwrap();
             let on = |k: usize| r.frame.prim[k] != u32::MAX;
@@ -339,7 +354,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
     let scene = one_sphere();
     let camera = scene.camera.unwrap().camera().unwrap();
     let accel = Bvh::new(&scene.primitives);
-    let s = settings(Mode::Cast, KernelKind::Packet8, Block::B4x2);
+    let s = settings(Mode::Cast, KernelKind::Packet8, Block::B4x4);
     let plain = render(&scene, &accel, &camera, &s, &pool(), || {});
     let info = raypack::picture::report::RunInfo {
         engine: raypack::render::engine::Engine::Raypack,

@@ -14,7 +14,7 @@ fn trace(scene: &Scene, kernel: KernelKind, max_depth: u32) -> Render {
     let settings = RenderSettings {
         mode: Mode::Whitted,
         kernel,
-        block: Block::B4x2,
+        block: Block::B4x4,
         tile_size: 4,
         max_depth,
         sampling: Sampling::PixelCentres,

@@ -137,14 +137,10 @@ impl<F: SimdFloat> SlabPacket<F> {
     /// Prepare `rays` (lane by lane the same numbers as [`SlabRay::new`]).
     #[inline(always)]
     pub fn new(rays: &RayPacket<F>) -> Self {
-        let inverse = |d: F| {
-            let tiny = d.abs().lt(F::splat(f32::MIN_POSITIVE));
-            tiny.select(F::splat(f32::INFINITY), F::splat(1.0) / d)
-        };
         let inv_dir = V3 {
-            x: inverse(rays.dir.x),
-            y: inverse(rays.dir.y),
-            z: inverse(rays.dir.z),
+            x: Self::inverse(rays.dir.x),
+            y: Self::inverse(rays.dir.y),
+            z: Self::inverse(rays.dir.z),
         };
         let scale = F::splat(FAR_SCALE);
         Self {
@@ -168,20 +164,32 @@ impl<F: SimdFloat> SlabPacket<F> {
     /// and every lane's entry t (meaningful in the mask's lanes).
     #[inline(always)]
     pub fn entry(&self, min: Vec3, max: Vec3, t_max: F) -> (F, F) {
-        // Per lane the entry and exit planes by the sign of 1/d, as the single ray picks them.
-        let slab = |lo: f32, hi: f32, o: F, inv: F, inv_far: F, enters_max: F| {
-            let (lo, hi) = (F::splat(lo), F::splat(hi));
-            let near = (enters_max.select(hi, lo) - o) * inv;
-            let far = (enters_max.select(lo, hi) - o) * inv_far;
-            (near, far)
-        };
         let (i, f, m) = (&self.inv_dir, &self.inv_dir_far, &self.enters_max);
-        let (nx, fx) = slab(min.x, max.x, self.origin.x, i.x, f.x, m.x);
-        let (ny, fy) = slab(min.y, max.y, self.origin.y, i.y, f.y, m.y);
-        let (nz, fz) = slab(min.z, max.z, self.origin.z, i.z, f.z, m.z);
+        let (nx, fx) = Self::slab(min.x, max.x, self.origin.x, i.x, f.x, m.x);
+        let (ny, fy) = Self::slab(min.y, max.y, self.origin.y, i.y, f.y, m.y);
+        let (nz, fz) = Self::slab(min.z, max.z, self.origin.z, i.z, f.z, m.z);
         let t_near = nx.fast_max(ny.fast_max(nz.fast_max(self.t_min)));
         let t_far = fx.fast_min(fy.fast_min(fz.fast_min(t_max * F::splat(FAR_SCALE))));
         (t_near.le(t_far), t_near)
+    }
+
+    /// `1/d`, with `+∞` for zero and subnormal `d`. (Functions rather than
+    /// closures: everything under a level's entry point must inline, see
+    /// [`LevelTask`](crate::simd::isa::LevelTask).)
+    #[inline(always)]
+    fn inverse(d: F) -> F {
+        let tiny = d.abs().lt(F::splat(f32::MIN_POSITIVE));
+        tiny.select(F::splat(f32::INFINITY), F::splat(1.0) / d)
+    }
+
+    /// One axis's entry and exit t per lane: the planes picked by the sign of
+    /// `1/d`, as the single ray picks them.
+    #[inline(always)]
+    fn slab(lo: f32, hi: f32, o: F, inv: F, inv_far: F, enters_max: F) -> (F, F) {
+        let (lo, hi) = (F::splat(lo), F::splat(hi));
+        let near = (enters_max.select(hi, lo) - o) * inv;
+        let far = (enters_max.select(lo, hi) - o) * inv_far;
+        (near, far)
     }
 
     /// [`SlabPacket::entry`] of a node's box.

@@ -152,16 +152,38 @@ impl<F: SimdFloat> WideNodeOf<F> {
     /// `N` is the instruction set's type of the node's width.
     #[inline(always)]
     pub fn entry<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, t_max: f32) -> (u32, F::Array) {
-        let plane = |axis: usize, corner: usize| {
-            N::from_array(self.bounds[axis][corner]) - N::splat(ray.origin[axis])
-        };
-        // `& 1` tells the compiler the corner is 0 or 1, so it checks no bounds.
-        let near = |axis: usize| plane(axis, ray.entry_corner(axis) & 1) * N::splat(ray.inv_dir[axis]);
-        let far =
-            |axis: usize| plane(axis, (ray.entry_corner(axis) ^ 1) & 1) * N::splat(ray.inv_dir_far[axis]);
-        let t_near = near(0).fast_max(near(1).fast_max(near(2).fast_max(N::splat(ray.t_min))));
-        let t_far = far(0).fast_min(far(1).fast_min(far(2).fast_min(N::splat(t_max * FAR_SCALE))));
+        let t_near = self.near::<N>(ray, 0).fast_max(
+            self.near::<N>(ray, 1)
+                .fast_max(self.near::<N>(ray, 2).fast_max(N::splat(ray.t_min))),
+        );
+        let t_far = self.far::<N>(ray, 0).fast_min(
+            self.far::<N>(ray, 1)
+                .fast_min(self.far::<N>(ray, 2).fast_min(N::splat(t_max * FAR_SCALE))),
+        );
         (t_near.le(t_far).bitmask(), t_near.to_array())
+    }
+
+    // Functions rather than closures below: everything under a level's entry
+    // point must inline (see `LevelTask`).
+
+    /// Per child, the t at which `ray` crosses the plane `corner` (0: min,
+    /// 1: max) of `axis`, before scaling by `1/d`.
+    #[inline(always)]
+    fn plane<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, axis: usize, corner: usize) -> N {
+        N::from_array(self.bounds[axis][corner]) - N::splat(ray.origin[axis])
+    }
+
+    /// Per child, the t at which `ray` enters the slab of `axis`.
+    #[inline(always)]
+    fn near<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, axis: usize) -> N {
+        // `& 1` tells the compiler the corner is 0 or 1, so it checks no bounds.
+        self.plane::<N>(ray, axis, ray.entry_corner(axis) & 1) * N::splat(ray.inv_dir[axis])
+    }
+
+    /// Per child, the t at which `ray` leaves the slab of `axis` (scaled up).
+    #[inline(always)]
+    fn far<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, axis: usize) -> N {
+        self.plane::<N>(ray, axis, (ray.entry_corner(axis) ^ 1) & 1) * N::splat(ray.inv_dir_far[axis])
     }
 }
 

@@ -36,8 +36,8 @@ pub struct SceneArgs {
     /// Engines to measure, comma-separated (`embree` needs the `embree` feature).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Engine::Raypack])]
     pub engine: Vec<Engine>,
-    /// Pixel blocks per packet to measure, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Block::B4x2])]
+    /// Pixel blocks per batch (one 16-wide packet, or two 8-wide) to measure, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Block::B4x4])]
     pub block: Vec<Block>,
     /// Tile edge in pixels.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
@@ -50,7 +50,8 @@ pub struct SceneArgs {
     pub runs: u32,
     /// Ray kinds to measure, comma-separated (see `bench traversal --rays`):
     /// primary rays go through the tile scheduler in the blocks asked for, the
-    /// others one by one (scalar) or in their 4×2-pixel packets (packet8).
+    /// others one by one (scalar) or in their packets of 4×2 pixels (packet8)
+    /// or 4×4 (packet16).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = RayKind::ALL)]
     pub rays: Vec<RayKind>,
     /// Output and baselines.
@@ -98,7 +99,7 @@ pub struct SceneRow {
     pub width: u32,
     /// Image height.
     pub height: u32,
-    /// Pixel block per packet.
+    /// Pixel block per batch.
     pub block: &'static str,
     /// Tile edge.
     pub tile: u32,
@@ -144,7 +145,7 @@ struct Plan<'a> {
     /// The primary rays, if measured.
     frame: Option<&'a PrimaryFrame>,
     variants: &'a [Variant],
-    /// The other ray kinds, and their variants (4×2 blocks).
+    /// The other ray kinds, and their variants (4×4 blocks).
     sets: &'a [RaySet],
     set_variants: &'a [Variant],
     runs: usize,
@@ -260,7 +261,7 @@ pub fn run(args: SceneArgs) -> CliResult {
         for &threads in &args.threads {
             set_variants.push(Variant {
                 kernel,
-                block: Block::B4x2,
+                block: Block::B4x4,
                 threads: usize::from(threads),
             });
         }
