@@ -9,9 +9,8 @@
 //! the secondary kinds start at the primary hit points (found with raypack's
 //! BVH, untimed), one ray per hit, and are packed as their primary rays are: a
 //! packet holds the secondary rays of its pixels, its lanes whose primary ray
-//! missed inactive. Their origins are
-//! pushed off the surface along the facing normal by the scene's
-//! [`epsilon_for`], which is also their `t_min`.
+//! missed inactive. Their origins are pushed off the surface along the facing
+//! normal by the scene's [`epsilon_for`], which is also their `t_min`.
 
 use glam::Vec3;
 
@@ -21,6 +20,7 @@ use crate::camera::Camera;
 use crate::geometry::Primitive;
 use crate::packet::{RayPacket, RayPacket8, RayPacket16};
 use crate::ray::Ray;
+use crate::render::batch::BATCH;
 use crate::render::whitted::epsilon_for;
 use crate::rng::Rng;
 
@@ -78,8 +78,8 @@ pub enum Query {
     AnyHit,
 }
 
-/// Rays per block: a 16-wide packet, or two 8-wide ones.
-const BLOCK: usize = 16;
+/// Rays per block: the renderer's batch, a 16-wide packet or two 8-wide ones.
+const BLOCK: usize = BATCH;
 
 /// A block's rays and the mask of those that take part.
 type Block = ([Ray; BLOCK], u32);
