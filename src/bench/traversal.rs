@@ -20,6 +20,7 @@ use std::time::Instant;
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::accel::stats::NoStats;
 use crate::accel::{Accel, Bvh, TraversalStats};
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{Query, RayKind, RaySet, RaySource, default_light};
@@ -29,6 +30,8 @@ use crate::camera::Camera;
 use crate::engine::{EmbreeIsa, Engine};
 use crate::geometry::Primitive;
 use crate::packet::RayPacket;
+use crate::ray::Hit;
+use crate::render::batch::BATCH;
 use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
 use crate::simd::SimdFloat;
 use crate::statistics::Summary;
@@ -123,18 +126,30 @@ pub fn scene_bounds(prims: &[Primitive]) -> Aabb {
 }
 
 /// Trace the rays of `set` one by one with its kind's query, tiles spread over
-/// the current rayon pool; returns how many hit.
+/// the current rayon pool; returns how many hit. The rays go in batches of
+/// [`BATCH`], as the renderer's scalar kernel hands them over: a BVH enters its
+/// instruction set's code once per batch, not once per ray
+/// ([`Accel::intersect_each_counted`]); an outside engine still takes them one
+/// call per ray (`rtcIntersect1`).
 pub fn trace_single(accel: &impl Accel, set: &RaySet) -> u64 {
     let query = set.kind.query();
     set.rays
         .par_chunks(TILE_RAYS)
         .map(|tile| {
-            tile.iter()
-                .map(|r| {
-                    u64::from(match query {
-                        Query::Nearest => accel.intersect(r).is_hit(),
-                        Query::AnyHit => accel.occluded(r),
-                    })
+            tile.chunks(BATCH)
+                .map(|rays| {
+                    let all = u32::MAX >> (32 - rays.len());
+                    match query {
+                        Query::Nearest => {
+                            // Every record is overwritten: the first ray's will do.
+                            let mut hits = [Hit::none(&rays[0]); BATCH];
+                            accel.intersect_each_counted(rays, all, &mut hits, &mut NoStats);
+                            hits[..rays.len()].iter().filter(|h| h.is_hit()).count() as u64
+                        }
+                        Query::AnyHit => {
+                            u64::from(accel.occluded_each_counted(rays, all, &mut NoStats).count_ones())
+                        }
+                    }
                 })
                 .sum::<u64>()
         })
