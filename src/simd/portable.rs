@@ -91,11 +91,23 @@ macro_rules! impl_simd_float {
             }
             #[inline(always)]
             fn fast_min(self, rhs: Self) -> Self {
-                $f::fast_min(self, rhs)
+                // x86 `minps` is the rule itself. Elsewhere `wide` follows the
+                // target's (NEON's `fmin` returns the NaN, and a ray lying in
+                // a box face would miss it), so the rule is spelled out: a
+                // comparison with a NaN is false and picks `rhs`.
+                if cfg!(target_arch = "x86_64") {
+                    $f::fast_min(self, rhs)
+                } else {
+                    SimdFloat::lt(self, rhs).select(self, rhs)
+                }
             }
             #[inline(always)]
             fn fast_max(self, rhs: Self) -> Self {
-                $f::fast_max(self, rhs)
+                if cfg!(target_arch = "x86_64") {
+                    $f::fast_max(self, rhs)
+                } else {
+                    SimdFloat::gt(self, rhs).select(self, rhs)
+                }
             }
             #[inline(always)]
             fn all_true() -> Self {
