@@ -37,9 +37,8 @@ declare -A max_len=(
     [nff]=16384 [obj]=16384 [ply]=16384 [toml]=16384 [rays_csv]=4096 [pipeline]=8192
 )
 
-# The machine's own vector width, as the main build uses (.cargo/config.toml;
-# RUSTFLAGS would otherwise replace it).
-export RUSTFLAGS="${RUSTFLAGS:--C target-cpu=native}"
+# The fuzz build has the portable instruction-set level only (`cfg(fuzzing)`,
+# src/simd/isa.rs): it targets baseline x86-64, as the main build does.
 (cd fuzz && nice -n 19 cargo +nightly fuzz build -O -a >&2)
 bin_dir=fuzz/target/x86_64-unknown-linux-gnu/release
 

@@ -7,6 +7,12 @@
 //! enters an instruction set's code. Which level runs is an [`Isa`]: the best the CPU has ([`Isa::best`]), unless a
 //! command forces one (`--isa`) for a comparison. A level is only ever run
 //! where [`Isa::is_available`] says the CPU has it.
+//!
+//! Fuzz builds (`--cfg fuzzing`, which cargo-fuzz sets) have the portable level
+//! only: the fuzzers look for inputs that panic or misuse memory, and the x86
+//! levels run the same generic code in safe Rust (checked bit for bit against
+//! the portable level by `tests/bvh/isa.rs`); compiling them too would put
+//! three more copies of the traversal into the instrumented build.
 
 use std::fmt;
 use std::str::FromStr;
@@ -47,9 +53,9 @@ impl Isa {
     pub fn is_available(self) -> bool {
         match self {
             Isa::Portable => true,
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Sse42 => is_x86_feature_detected!("sse4.2") && is_x86_feature_detected!("popcnt"),
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Avx2 => {
                 Isa::Sse42.is_available()
                     && is_x86_feature_detected!("avx2")
@@ -58,7 +64,7 @@ impl Isa {
                     && is_x86_feature_detected!("bmi2")
                     && is_x86_feature_detected!("lzcnt")
             }
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Avx512 => {
                 Isa::Avx2.is_available()
                     && is_x86_feature_detected!("avx512f")
@@ -67,7 +73,7 @@ impl Isa {
                     && is_x86_feature_detected!("avx512dq")
                     && is_x86_feature_detected!("avx512cd")
             }
-            #[cfg(not(target_arch = "x86_64"))]
+            #[cfg(any(not(target_arch = "x86_64"), fuzzing))]
             _ => false,
         }
     }
@@ -193,13 +199,13 @@ impl Isa {
     pub unsafe fn run<T: LevelTask>(self, task: T) -> T::Output {
         match self {
             // SAFETY: the caller guarantees the CPU has the level.
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Sse42 => unsafe { entry::sse42(task) },
             // SAFETY: as above.
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Avx2 => unsafe { entry::avx2(task) },
             // SAFETY: as above.
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Avx512 => unsafe { entry::avx512(task) },
             _ => task.run::<PortableLanes>(),
         }
@@ -208,7 +214,7 @@ impl Isa {
 
 /// The entry point of each x86 level: a task compiled with the level's
 /// instructions and lane types.
-#[cfg(target_arch = "x86_64")]
+#[cfg(all(target_arch = "x86_64", not(fuzzing)))]
 mod entry {
     use super::{Level, LevelTask};
     use crate::simd::Isa;
