@@ -103,7 +103,11 @@ fn each_intersect<N: Simd8, S: Counter>(
     for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
         if active >> i & 1 == 1 {
             stats.lane(i);
-            *hit = traverse_single::intersect::<N, S>(bvh, ray, stats);
+            // Traced into the caller's record in place: a record returned by
+            // value and then copied went through the stack, and its wide
+            // loads stalled on the narrower stores just made.
+            *hit = Hit::none(ray);
+            traverse_single::trace::<N, _, S>(bvh, ray, &mut traverse_single::Nearest { ray, hit }, stats);
         }
     }
 }
