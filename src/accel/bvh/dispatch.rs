@@ -103,11 +103,7 @@ fn each_intersect<N: Simd8, S: Counter>(
     for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
         if active >> i & 1 == 1 {
             stats.lane(i);
-            // Traced into the caller's record in place: a record returned by
-            // value and then copied went through the stack, and its wide
-            // loads stalled on the narrower stores just made.
-            *hit = Hit::none(ray);
-            traverse_single::trace::<N, _, S>(bvh, ray, &mut traverse_single::Nearest { ray, hit }, stats);
+            traverse_single::intersect_into::<N, S>(bvh, ray, hit, stats);
         }
     }
 }

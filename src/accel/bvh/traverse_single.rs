@@ -125,10 +125,21 @@ pub fn trace<N: Simd8, Q: RayQuery, S: Counter>(bvh: &Bvh, ray: &Ray, query: &mu
     !bvh.is_empty() && traverse::<N, Q, S>(bvh, ChildRef::ROOT, &SlabRay::new(ray), query, stats)
 }
 
+/// The nearest hit of `ray` written into `hit` (whatever it held before), with
+/// the instruction set's 8-lane type `N`. Callers with an array of records
+/// trace into it in place: a record returned by value and then copied goes
+/// through the stack, and the copy's wide loads stall on the narrower stores
+/// just made.
+#[inline(always)]
+pub fn intersect_into<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, hit: &mut Hit, stats: &mut S) {
+    *hit = Hit::none(ray);
+    trace::<N, _, S>(bvh, ray, &mut Nearest { ray, hit }, stats);
+}
+
 /// The nearest hit of `ray`, with the instruction set's 8-lane type `N`.
 #[inline(always)]
 pub fn intersect<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
     let mut hit = Hit::none(ray);
-    trace::<N, _, S>(bvh, ray, &mut Nearest { ray, hit: &mut hit }, stats);
+    intersect_into::<N, S>(bvh, ray, &mut hit, stats);
     hit
 }
