@@ -104,7 +104,13 @@ pub fn build(boxes: &[Aabb], options: &BuildOptions) -> Built {
             || (Box3::EMPTY, Box3::EMPTY),
             |(b1, c1), (b2, c2)| (b1.union(&b2), c1.union(&c2)),
         );
-    let tree = ctx.subtree(&mut refs, 0, bounds, centroids, 0, &mut BinScratch::new());
+    let all = NodePrims {
+        refs: &mut refs,
+        first: 0,
+        bounds,
+        centroids,
+    };
+    let tree = ctx.subtree(all, 0, &mut BinScratch::new());
     // Flatten depth first: a node's children pair, then the left subtree, then the right.
     let mut pairs = Vec::with_capacity(1 + tree.inner_nodes());
     pairs.push(NodePair([Node::EMPTY; 2]));
@@ -208,13 +214,17 @@ impl PrimRef {
     }
 }
 
-/// The tree while it is being built.
+/// The tree while it is being built. Only the nodes large enough to build
+/// their halves in parallel ([`PARALLEL_MIN`]) are boxed; the subtrees below
+/// them are built by one thread straight into node pairs, depth first, as the
+/// final array holds them ([`Temp::Flat`]), and copied there in one piece.
+/// (With every node boxed, allocating, flattening and dropping the boxes took a
+/// tenth of a dragon build: 10⁵ small blocks scattered over the heap.)
 enum Temp {
-    Leaf {
-        bounds: Aabb,
-        first: u32,
-        count: u32,
-    },
+    /// A subtree built in one piece: its root, and the pairs of its inner
+    /// nodes, numbered from 0 within `pairs`.
+    Flat { root: Node, pairs: Vec<NodePair> },
+    /// A node whose halves were built as two tasks.
     Inner {
         bounds: Aabb,
         axis: u32,
@@ -228,7 +238,7 @@ impl Temp {
     /// Inner nodes in this subtree.
     fn inner_nodes(&self) -> usize {
         match self {
-            Temp::Leaf { .. } => 0,
+            Temp::Flat { pairs, .. } => pairs.len(),
             Temp::Inner { inner_nodes, .. } => *inner_nodes,
         }
     }
@@ -237,7 +247,12 @@ impl Temp {
 /// Write `t`'s subtree into `pairs`, returning the node for `t` itself.
 fn emit(t: &Temp, pairs: &mut Vec<NodePair>) -> Node {
     match t {
-        Temp::Leaf { bounds, first, count } => Node::leaf(*bounds, *first, *count),
+        Temp::Flat { root, pairs: flat } => {
+            // Pair i of the piece becomes pair `offset + i`.
+            let offset = pairs.len() as u32;
+            pairs.extend(flat.iter().map(|p| NodePair(p.0.map(|n| n.relocated(offset)))));
+            root.relocated(offset)
+        }
         Temp::Inner {
             bounds,
             axis,
@@ -319,6 +334,44 @@ struct Context {
     block_shift: Option<u32>,
 }
 
+/// The primitives of a node being built: `refs` are primitives
+/// `first..first + refs.len()` of the final order, with box `bounds` and
+/// centroid box `centroids`.
+struct NodePrims<'a> {
+    refs: &'a mut [PrimRef],
+    first: u32,
+    bounds: Box3,
+    centroids: Box3,
+}
+
+impl<'a> NodePrims<'a> {
+    /// The node as a leaf.
+    fn leaf(&self) -> Node {
+        Node::leaf(self.bounds.to_aabb(), self.first, self.refs.len() as u32)
+    }
+
+    /// The two children of `division` (made of these primitives, reordered).
+    fn split(self, division: &Division) -> [NodePrims<'a>; 2] {
+        let mid = division.left_count;
+        let [(lb, lc), (rb, rc)] = division.children;
+        let (l, r) = self.refs.split_at_mut(mid);
+        [
+            NodePrims {
+                refs: l,
+                first: self.first,
+                bounds: lb,
+                centroids: lc,
+            },
+            NodePrims {
+                refs: r,
+                first: self.first + mid as u32,
+                bounds: rb,
+                centroids: rc,
+            },
+        ]
+    }
+}
+
 /// How a node's primitives are divided between its children.
 struct Division {
     axis: usize,
@@ -350,25 +403,20 @@ impl Context {
         }
     }
 
-    /// Build the node holding `refs` (primitives `first..first + refs.len()` of
-    /// the final order), whose box is `bounds` and centroid box `centroids`.
-    fn subtree(
+    /// How to divide the node holding `refs`, whose box is `bounds` and
+    /// centroid box `centroids`, at `depth`: None for a leaf. The primitives
+    /// are reordered so that the left child's come first.
+    fn divide(
         &self,
         refs: &mut [PrimRef],
-        first: u32,
-        bounds: Box3,
-        centroids: Box3,
+        bounds: &Box3,
+        centroids: &Box3,
         depth: usize,
         scratch: &mut BinScratch,
-    ) -> Temp {
+    ) -> Option<Division> {
         let n = refs.len();
-        let leaf = Temp::Leaf {
-            bounds: bounds.to_aabb(),
-            first,
-            count: n as u32,
-        };
         if n <= 1 {
-            return leaf;
+            return None;
         }
         // A split costs at least C_trav (its children's term is not negative),
         // so a node that may be a leaf and costs no more as one is a leaf
@@ -376,40 +424,73 @@ impl Context {
         // to `max_leaf` primitives, half of all the nodes the build visits.
         let leaf_cost = self.c_isect * self.tests(n);
         if n <= self.max_leaf && self.c_isect >= 0.0 && leaf_cost <= self.c_trav {
-            return leaf;
+            return None;
         }
         // A node of few primitives gains nothing from more bins than it has
         // primitives, and the sweeps over bins are most of its build time.
         let bins = self.bins.min(n.max(4));
         let split = if depth < SAH_DEPTH_LIMIT {
-            self.best_split(refs, bins, &bounds, &centroids, scratch)
+            self.best_split(refs, bins, bounds, centroids, scratch)
         } else {
             None
         };
-        let division = match split {
-            Some(s) if n > self.max_leaf || s.cost < leaf_cost => partition(refs, bins, &centroids, &s),
-            _ if n <= self.max_leaf => return leaf,
-            _ => median_split(refs, &centroids),
-        };
-        let mid = division.left_count;
-        let [(lb, lc), (rb, rc)] = division.children;
-        let (l, r) = refs.split_at_mut(mid);
-        let mut build_left = |scratch: &mut BinScratch| self.subtree(l, first, lb, lc, depth + 1, scratch);
-        let mut build_right =
-            |scratch: &mut BinScratch| self.subtree(r, first + mid as u32, rb, rc, depth + 1, scratch);
-        let children = if n >= PARALLEL_MIN {
-            // The right half may run on another thread: it gets bins of its own.
-            let (a, b) = rayon::join(|| build_left(scratch), || build_right(&mut BinScratch::new()));
-            [a, b]
-        } else {
-            [build_left(scratch), build_right(scratch)]
-        };
-        Temp::Inner {
-            bounds: bounds.to_aabb(),
-            axis: division.axis as u32,
-            inner_nodes: 1 + children[0].inner_nodes() + children[1].inner_nodes(),
-            children: Box::new(children),
+        match split {
+            Some(s) if n > self.max_leaf || s.cost < leaf_cost => Some(partition(refs, bins, centroids, &s)),
+            _ if n <= self.max_leaf => None,
+            _ => Some(median_split(refs, centroids)),
         }
+    }
+
+    /// Build the node of `prims`: the halves of a large node on two rayon
+    /// tasks, a smaller one in one piece ([`Context::flat`]).
+    fn subtree(&self, prims: NodePrims<'_>, depth: usize, scratch: &mut BinScratch) -> Temp {
+        if prims.refs.len() < PARALLEL_MIN {
+            let mut pairs = Vec::new();
+            let root = self.flat(prims, depth, scratch, &mut pairs);
+            return Temp::Flat { root, pairs };
+        }
+        let Some(division) = self.divide(prims.refs, &prims.bounds, &prims.centroids, depth, scratch) else {
+            return Temp::Flat {
+                root: prims.leaf(),
+                pairs: Vec::new(),
+            };
+        };
+        let bounds = prims.bounds.to_aabb();
+        let [l, r] = prims.split(&division);
+        // The right half may run on another thread: it gets bins of its own.
+        let (a, b) = rayon::join(
+            || self.subtree(l, depth + 1, scratch),
+            || self.subtree(r, depth + 1, &mut BinScratch::new()),
+        );
+        Temp::Inner {
+            bounds,
+            axis: division.axis as u32,
+            inner_nodes: 1 + a.inner_nodes() + b.inner_nodes(),
+            children: Box::new([a, b]),
+        }
+    }
+
+    /// Build the node of `prims` on this thread, its inner nodes' pairs
+    /// pushed onto `pairs` depth first (a node's children, then the left
+    /// subtree, then the right); returns the node.
+    fn flat(
+        &self,
+        prims: NodePrims<'_>,
+        depth: usize,
+        scratch: &mut BinScratch,
+        pairs: &mut Vec<NodePair>,
+    ) -> Node {
+        let Some(division) = self.divide(prims.refs, &prims.bounds, &prims.centroids, depth, scratch) else {
+            return prims.leaf();
+        };
+        let bounds = prims.bounds.to_aabb();
+        let [l, r] = prims.split(&division);
+        let pair = pairs.len();
+        pairs.push(NodePair([Node::EMPTY; 2]));
+        let left = self.flat(l, depth + 1, scratch, pairs);
+        let right = self.flat(r, depth + 1, scratch, pairs);
+        pairs[pair] = NodePair([left, right]);
+        Node::inner(bounds, pair as u32, division.axis as u32)
     }
 
     /// The cheapest SAH split over all axes and bin boundaries, if any separates the primitives.

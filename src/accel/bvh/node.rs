@@ -80,6 +80,21 @@ impl Node {
         meta: 0,
     };
 
+    /// This node with its children's pair index moved up by `offset` (a
+    /// leaf unchanged): how a subtree built apart, its pairs numbered from 0,
+    /// is placed in the whole tree's array.
+    #[inline]
+    pub fn relocated(self, offset: u32) -> Self {
+        if self.is_leaf() {
+            self
+        } else {
+            Self {
+                first: self.first + offset,
+                ..self
+            }
+        }
+    }
+
     /// True for a leaf.
     #[inline(always)]
     pub fn is_leaf(&self) -> bool {
