@@ -18,6 +18,7 @@ use crate::accel::{Accel, Bvh};
 use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::geometry::Primitive;
+use crate::huge_pages::ADVISED_BYTES;
 use crate::packet::{RayPacket, RayPacket8, RayPacket16};
 use crate::ray::Ray;
 use crate::render::batch::BATCH;
@@ -120,7 +121,7 @@ impl RaySet {
             }
             set.packets16.push(RayPacket16::from_rays_masked(&lanes, mask));
         }
-        set
+        set.on_huge_pages()
     }
 
     /// A set of `kind` from `rays` in order, packed as they come.
@@ -134,6 +135,26 @@ impl RaySet {
             packets16: packed(&rays),
             rays,
         }
+        .on_huge_pages()
+    }
+
+    /// The set with room for at least [`ADVISED_BYTES`] in each array, so
+    /// that a binary on [`HugePageAlloc`](crate::huge_pages::HugePageAlloc)
+    /// holds every set on huge pages, however few its rays. The timing loops
+    /// read a set over and over, and on the VMs this project measures on, a
+    /// set of 2 MiB arrays from `malloc` (4 KiB pages; 64k rays) traced
+    /// shadow rays 2–5× slower than a set of 256k rays on huge pages, for
+    /// every engine, most of the time spent on the first load of each ray
+    /// (docs/measurements.md, "Small ray sets read slowly on this VM").
+    fn on_huge_pages(mut self) -> Self {
+        fn reserve<T>(v: &mut Vec<T>) {
+            let least = ADVISED_BYTES.div_ceil(size_of::<T>().max(1));
+            v.reserve_exact(least.saturating_sub(v.len()));
+        }
+        reserve(&mut self.rays);
+        reserve(&mut self.packets);
+        reserve(&mut self.packets16);
+        self
     }
 }
 
