@@ -5,7 +5,8 @@
 //! testing a packet against each box as soon as the tree branches culls more
 //! than eight boxes at once would), single rays the wide tree
 //! ([`traverse_single`], one SIMD test per node), and so do incoherent
-//! packets ([`traverse_hybrid`], together while enough lanes share a node);
+//! packets ([`traverse_hybrid`], together while enough lanes share a node;
+//! rays from all over the scene as single rays interleaved);
 //! shadow rays use either ([`occlusion`]). Leaves call the primitives' own
 //! kernels; a leaf of triangles or of spheres holds them in a block a single
 //! ray tests at once ([`leaf`]).
@@ -194,6 +195,12 @@ impl Bvh {
         let collapsed = wide::collapse(&bvh);
         bvh.wide = collapsed.nodes;
         bvh
+    }
+
+    /// Bytes of what single rays read: the wide nodes and the leaves.
+    #[inline(always)]
+    pub fn walked_bytes(&self) -> usize {
+        self.wide.len() * size_of::<wide::WideNode>() + self.leaves.bytes()
     }
 
     /// The instruction set queries run on: [`Isa::default_level`] when built.

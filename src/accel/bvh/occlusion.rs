@@ -6,10 +6,10 @@
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 
-use crate::accel::bvh::query::{PacketQuery, RayQuery, lane_bits};
+use crate::accel::bvh::query::{INTERLEAVE_FROM, PacketQuery, RayQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_packet::trace_packet;
-use crate::accel::bvh::traverse_single::{trace, traverse};
+use crate::accel::bvh::traverse_single::{INTERLEAVED, trace, traverse, traverse_interleaved};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
@@ -89,16 +89,40 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
 
     #[inline(always)]
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S) {
-        for lane in lane_bits(lanes) {
-            stats.lane(lane);
-            let ray = self.rays.ray(lane);
-            let mut query = AnyHit {
-                ray: &ray,
-                hit: Hit::none(&ray),
-            };
-            if traverse::<F::Lanes8, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
-                self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+        if lanes.count_ones() < INTERLEAVE_FROM {
+            for lane in lane_bits(lanes) {
+                stats.lane(lane);
+                let ray = self.rays.ray(lane);
+                let mut query = AnyHit {
+                    ray: &ray,
+                    hit: Hit::none(&ray),
+                };
+                if traverse::<F::Lanes8, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
+                    self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+                }
             }
+            return;
+        }
+        for (group, count) in lane_groups(lanes) {
+            // (Loops, not closures: SIMD code must inline into the entry point.)
+            let mut rays = [self.rays.ray(group[0]); INTERLEAVED];
+            for k in 1..count {
+                rays[k] = self.rays.ray(group[k]);
+            }
+            let mut walks: [(usize, SlabRay, AnyHit); INTERLEAVED] = std::array::from_fn(|k| {
+                let ray = &rays[k];
+                let query = AnyHit {
+                    ray,
+                    hit: Hit::none(ray),
+                };
+                (group[k], SlabRay::new(ray), query)
+            });
+            let occluded = traverse_interleaved::<F::Lanes8, _, S>(bvh, start, &mut walks[..count], stats);
+            let bits = group[..count]
+                .iter()
+                .enumerate()
+                .fold(0, |bits, (k, lane)| bits | ((occluded >> k & 1) << lane));
+            self.pending = self.pending.and_not(F::mask_from_bits(bits));
         }
     }
 }

@@ -4,6 +4,13 @@
 //! way while the ray works through the nearer ones (incoherent rays wait on
 //! memory more than on arithmetic). One loop serves nearest-hit and any-hit queries ([`RayQuery`]); packet
 //! traversal finishes the lanes it leaves alone with it.
+//!
+//! Several rays can walk at once, one visit of each in turn
+//! ([`traverse_interleaved`]): a ray's next visit waits on the node it goes
+//! to, and the other rays' visits fill that wait. Packets of rays from all
+//! over a scene are traced so (see `traverse_packet::is_scattered`).
+
+use std::mem::MaybeUninit;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
@@ -25,14 +32,92 @@ pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
     query: &mut Q,
     stats: &mut S,
 ) -> bool {
-    // Children still to visit, with their entry t.
-    let mut stack = TraversalStack::<(ChildRef, f32), WIDE_STACK_SLOTS>::new();
-    let mut next = start;
+    let mut walk = Walk::new(start);
     loop {
+        if let Some(ended_early) = walk.step::<N, Q, S, false>(bvh, slab, query, stats) {
+            return ended_early;
+        }
+    }
+}
+
+/// Most rays [`traverse_interleaved`] walks at once.
+pub const INTERLEAVED: usize = 8;
+
+/// Traverse the subtree under `start` with each ray of `walks` (its packet
+/// lane, for [`Counter::lane`], its slab ray and its query; at most
+/// [`INTERLEAVED`]), one node visit of each in turn; returns the mask of the
+/// rays whose query ended early. An incoherent ray waits on memory at nearly
+/// every visit, and its next visit needs the node it is waiting for; so each
+/// walk prefetches the child it goes to next, and the other rays' visits fill
+/// the wait (the misses of several rays overlap, where one ray's come one
+/// after the other).
+#[inline(always)]
+pub fn traverse_interleaved<N: Simd8, Q: RayQuery, S: Counter>(
+    bvh: &Bvh,
+    start: ChildRef,
+    walks: &mut [(usize, SlabRay, Q)],
+    stats: &mut S,
+) -> u32 {
+    let count = walks.len().min(INTERLEAVED);
+    // The walks' stacks are left uninitialised (3 KiB each), as one walk's are.
+    let mut states = [const { MaybeUninit::<Walk>::uninit() }; INTERLEAVED];
+    for state in &mut states[..count] {
+        state.write(Walk::new(start));
+    }
+    let (mut walking, mut ended_early) = ((1u32 << count) - 1, 0);
+    while walking != 0 {
+        let mut bits = walking;
+        while bits != 0 {
+            let k = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let (lane, slab, query) = &mut walks[k];
+            stats.lane(*lane);
+            // SAFETY: the first `count` states were written above.
+            let state = unsafe { states[k].assume_init_mut() };
+            if let Some(early) = state.step::<N, Q, S, true>(bvh, slab, query, stats) {
+                walking &= !(1 << k);
+                ended_early |= u32::from(early) << k;
+            }
+        }
+    }
+    ended_early
+}
+
+/// One ray's walk through the wide tree: the child it visits next, and the
+/// children met but not yet visited, with their entry t. 3 KiB.
+struct Walk {
+    stack: TraversalStack<(ChildRef, f32), WIDE_STACK_SLOTS>,
+    next: ChildRef,
+}
+
+impl Walk {
+    /// A walk that starts at `start`.
+    #[inline(always)]
+    fn new(start: ChildRef) -> Self {
+        Self {
+            stack: TraversalStack::new(),
+            next: start,
+        }
+    }
+
+    /// Visit the next child: Some(true) if the query ended the traversal,
+    /// Some(false) if no child is left, None to go on. With `PREFETCH_NEXT`
+    /// (walks interleaved with others) the child chosen next is prefetched
+    /// too; a walk alone loads it at once.
+    #[inline(always)]
+    fn step<N: Simd8, Q: RayQuery, S: Counter, const PREFETCH_NEXT: bool>(
+        &mut self,
+        bvh: &Bvh,
+        slab: &SlabRay,
+        query: &mut Q,
+        stats: &mut S,
+    ) -> Option<bool> {
+        let stack = &mut self.stack;
+        let next = self.next;
         stats.node();
         if next.is_leaf() {
             if !next.is_empty() && query.leaf::<N, S>(bvh, next.contents(), stats) {
-                return true;
+                return Some(true);
             }
         } else {
             // Test all children's boxes at once.
@@ -53,8 +138,11 @@ pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
                     bvh.prefetch(node.slot(far));
                 }
                 stack.push_if((node.slot(far), t[far]), rest != 0);
-                next = node.slot(near);
-                continue;
+                self.next = node.slot(near);
+                if PREFETCH_NEXT {
+                    bvh.prefetch(self.next);
+                }
+                return None;
             }
             // More: push them sorted by decreasing entry t
             // (insertion), so the nearest is popped next.
@@ -76,14 +164,15 @@ pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
             }
         }
         // Pop the next child the current hit has not put out of reach (entry t
-        // equal to the hit's t stays: the tie rule may still prefer it).
+        // equal to the hit's t stays: the tie rule may still prefer it). It
+        // was prefetched when pushed.
         loop {
             let Some((child, t_entry)) = stack.pop() else {
-                return false;
+                return Some(false);
             };
             if t_entry <= query.t_max() * FAR_SCALE {
-                next = child;
-                break;
+                self.next = child;
+                return None;
             }
         }
     }
