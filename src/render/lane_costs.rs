@@ -9,7 +9,7 @@
 use crate::accel::TraversalStats;
 use crate::accel::stats::Counter;
 use crate::render::batch::BATCH;
-use crate::simd::{SimdFloat, SimdU32};
+use crate::simd::SimdFloat;
 
 /// Traversal totals plus each batch lane's cost (node visits plus primitive
 /// tests). 208 bytes.
@@ -44,13 +44,16 @@ impl LaneCosts {
     }
 
     /// One more for each lane of the packet mask `mask`: a branch-free add
-    /// over all lanes (the set lanes are all ones), cheaper than a loop over
-    /// the set bits, whose count the branch predictor cannot guess.
+    /// over all lanes (each adds its bit), cheaper than a loop over the set
+    /// bits, whose count the branch predictor cannot guess. The bits come
+    /// from a movemask, not a store of the mask: in the test profile's giant
+    /// entry points, the store intrinsic (with its debug checks) was left out
+    /// of line.
     #[inline(always)]
     fn charge_lanes<F: SimdFloat>(&mut self, mask: F) {
-        let bits = mask.to_u32_mask().to_array();
-        for (cost, &b) in self.lanes[self.first..].iter_mut().zip(bits.as_ref()) {
-            *cost += u64::from(b & 1);
+        let bits = mask.bitmask();
+        for (j, cost) in self.lanes[self.first..].iter_mut().take(F::LANES).enumerate() {
+            *cost += u64::from(bits >> j & 1);
         }
     }
 }

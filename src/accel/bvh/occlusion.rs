@@ -3,6 +3,8 @@
 //! [`traverse_packet`](super::traverse_packet) with a query that stops a ray at
 //! the first primitive it hits anywhere in `[t_min, t_max]`.
 
+use glam::Vec3;
+
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 
@@ -105,8 +107,8 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
         }
         for (group, count) in lane_groups(lanes) {
             // (Loops, not closures: SIMD code must inline into the entry point.)
-            let mut rays = [self.rays.ray(group[0]); INTERLEAVED];
-            for k in 1..count {
+            let mut rays = [Ray::unbounded(Vec3::ZERO, Vec3::ZERO); INTERLEAVED];
+            for k in 0..count {
                 rays[k] = self.rays.ray(group[k]);
             }
             let mut walks: [(usize, SlabRay, AnyHit); INTERLEAVED] = std::array::from_fn(|k| {

@@ -35,22 +35,30 @@ struct Pending {
 }
 
 /// Traverse the wide tree from its root with the lanes of `lanes` (which met
-/// the root's box) of the rays prepared in `slab`.
+/// the root's box) of the rays prepared in `slab`; with `single_rays`, every
+/// lane walks the whole tree as a single ray (rays that share no node below
+/// the root, see [`is_scattered`](super::traverse_packet::is_scattered)).
+/// This is the one place packets hand lanes to
+/// [`PacketQuery::finish_lanes`], so the single-ray walk is compiled once
+/// into each packet query's entry point.
 #[inline(always)]
 pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     bvh: &Bvh,
     slab: &SlabPacket<F>,
     lanes: F,
+    single_rays: bool,
     query: &mut Q,
     stats: &mut S,
 ) {
     let mut stack = TraversalStack::<Pending, WIDE_STACK_SLOTS>::new();
     let mut next = ChildRef::ROOT;
     let mut active = lanes;
+    // Lanes that share nothing are handed over at the root (nothing is pushed).
+    let single_ray_lanes = if single_rays { u32::MAX } else { SINGLE_RAY_LANES };
     loop {
         let bits = active.bitmask();
-        if bits.count_ones() <= SINGLE_RAY_LANES {
-            // Too few lanes left to share the work.
+        if bits.count_ones() <= single_ray_lanes {
+            // Too few lanes left to share the work (or none shared at all).
             stats.fallback(u64::from(bits.count_ones()));
             query.finish_lanes(bvh, bits, next, stats);
         } else if next.is_leaf() {

@@ -38,6 +38,7 @@ use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
+use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
 
 /// Cosine of the widest angle (about 8°) between a lane's direction and the
@@ -169,12 +170,8 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
         // from all over a large tree share nothing below the root: they walk
         // it as single rays, interleaved. Else the hybrid traversal shares
         // what the lanes do share.
-        if bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES && is_scattered(rays, &bvh.bounds()) {
-            stats.fallback(u64::from(mask.bitmask().count_ones()));
-            query.finish_lanes(bvh, mask.bitmask(), ChildRef::ROOT, stats);
-        } else {
-            traverse_hybrid(bvh, &slab, mask, query, stats);
-        }
+        let scattered = bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES && is_scattered(rays, &bvh.bounds());
+        traverse_hybrid(bvh, &slab, mask, scattered, query, stats);
         return;
     }
     // Far children still to visit, with their lanes' entry t (NaN in the other lanes).
@@ -282,9 +279,9 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
         }
         for (group, count) in lane_groups(lanes) {
             // (Loops, not closures: SIMD code must inline into the entry point.)
-            let mut rays = [self.rays.ray(group[0]); INTERLEAVED];
-            let mut hits = [self.hits.hit(group[0]); INTERLEAVED];
-            for k in 1..count {
+            let mut rays = [Ray::unbounded(Vec3::ZERO, Vec3::ZERO); INTERLEAVED];
+            let mut hits = [Hit::none(&rays[0]); INTERLEAVED];
+            for k in 0..count {
                 rays[k] = self.rays.ray(group[k]);
                 hits[k] = self.hits.hit(group[k]);
             }
