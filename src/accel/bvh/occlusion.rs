@@ -8,10 +8,10 @@ use glam::Vec3;
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 
-use crate::accel::bvh::query::{INTERLEAVE_FROM, PacketQuery, RayQuery, lane_bits, lane_groups};
+use crate::accel::bvh::query::{INTERLEAVE_FROM, INTERLEAVED, PacketQuery, RayQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_packet::trace_packet;
-use crate::accel::bvh::traverse_single::{INTERLEAVED, trace, traverse, traverse_interleaved};
+use crate::accel::bvh::traverse_single::{trace, traverse, traverse_interleaved};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};

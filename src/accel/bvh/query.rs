@@ -6,7 +6,6 @@
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::traverse_single::INTERLEAVED;
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::simd::{Simd8, SimdFloat};
@@ -49,6 +48,10 @@ pub trait PacketQuery<F: SimdFloat> {
     /// [`traverse_interleaved`]: crate::accel::bvh::traverse_single::traverse_interleaved
     fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S);
 }
+
+/// Most rays [`traverse_interleaved`](crate::accel::bvh::traverse_single::traverse_interleaved)
+/// walks at once.
+pub const INTERLEAVED: usize = 8;
 
 /// Lanes [`PacketQuery::finish_lanes`] walks interleaved rather than one
 /// after the other, at least. Two interleaved walks cost more than their

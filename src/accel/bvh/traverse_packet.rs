@@ -29,11 +29,11 @@ use glam::Vec3;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::node::{NodeId, ROOT};
-use crate::accel::bvh::query::{INTERLEAVE_FROM, PacketQuery, lane_bits, lane_groups};
+use crate::accel::bvh::query::{INTERLEAVE_FROM, INTERLEAVED, PacketQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
 use crate::accel::bvh::traverse_hybrid::traverse_hybrid;
-use crate::accel::bvh::traverse_single::{INTERLEAVED, Nearest, traverse, traverse_interleaved};
+use crate::accel::bvh::traverse_single::{Nearest, traverse, traverse_interleaved};
 use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::bounds::Aabb;

@@ -14,7 +14,7 @@ use std::mem::MaybeUninit;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::query::RayQuery;
+use crate::accel::bvh::query::{INTERLEAVED, RayQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
 use crate::accel::bvh::wide::{ChildRef, WIDTH};
@@ -39,9 +39,6 @@ pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
         }
     }
 }
-
-/// Most rays [`traverse_interleaved`] walks at once.
-pub const INTERLEAVED: usize = 8;
 
 /// Traverse the subtree under `start` with each ray of `walks` (its packet
 /// lane, for [`Counter::lane`], its slab ray and its query; at most
