@@ -38,6 +38,32 @@ fn closed_mesh() {
     support::bvh::check_scene("mesh", &random::bumpy_sphere(2000, 6), 106);
 }
 
+/// Small scenes get leaves of up to 4 (`BuildOptions::for_primitives`), large
+/// ones leaves of up to 16 in two blocks of 8 (the defaults); trees of both
+/// kinds over the same mesh answer as brute force does, single rays and packets.
+#[test]
+fn both_leaf_sizes() {
+    use raypack::accel::Bvh;
+    use raypack::accel::bvh::{BuildOptions, SMALL_SCENE_PRIMITIVES};
+    let mesh = random::bumpy_sphere(5_000, 7);
+    let small = BuildOptions::for_primitives(mesh.len());
+    assert_eq!((small.max_leaf_size, small.traversal_cost), (4, 1.0));
+    assert_eq!(BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES - 1), small);
+    assert_eq!(
+        BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES),
+        BuildOptions::default()
+    );
+    let rays = support::bvh::random_rays(support::bvh::scene_bounds(&mesh), 20_000, 107);
+    let mut largest = Vec::new();
+    for options in [small, BuildOptions::default()] {
+        let bvh = Bvh::with_options(&mesh, &options);
+        largest.push(bvh.info().max_leaf_size);
+        support::bvh::check_rays(&mesh, &bvh, &rays, &format!("{options:?}"));
+    }
+    // Leaves of up to 4, and of more than one block.
+    assert!(largest[0] <= 4 && largest[1] > 8, "largest leaves {largest:?}");
+}
+
 /// The scenes with which the fuzz target `pipeline` found single rays and
 /// packets disagreeing (`tests/data/fuzz/pipeline_*.nff`), traced with the
 /// fuzzer's rays (`fuzz/fuzz_targets/pipeline.rs`: 4×4 camera rays, and rays

@@ -73,7 +73,7 @@ fn primitives_all_in_one_point() {
         .chain((0..50).map(|_| sphere(Vec3::ZERO, 0.0)))
         .collect();
     check("identical triangles", &tris, 20_000);
-    assert!(Bvh::new(&tris).info().max_leaf_size <= BuildOptions::default().max_leaf_size);
+    assert!(Bvh::new(&tris).info().max_leaf_size <= BuildOptions::for_primitives(tris.len()).max_leaf_size);
 }
 
 #[test]

@@ -73,15 +73,15 @@ fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
     let bvh = Bvh::new(&prims);
     let bounds = support::bvh::scene_bounds(&prims);
     let mut primary = TraversalStats::default();
-    for (_, packet) in support::bvh::primary_packets(bounds, 128, 128) {
+    for (_, packet) in support::bvh::primary_packets(bounds, 256, 256) {
         bvh.intersect_packet_counted(&packet, &mut primary);
     }
     let mut random = TraversalStats::default();
-    for chunk in support::bvh::random_rays(bounds, 128 * 128, 24).chunks(8) {
+    for chunk in support::bvh::random_rays(bounds, 256 * 256, 24).chunks(8) {
         bvh.intersect_packet_counted(&RayPacket8::from_rays(chunk), &mut random);
     }
-    assert_eq!(primary.rays, 128 * 128);
-    assert_eq!(primary.packets, 128 * 128 / 8);
+    assert_eq!(primary.rays, 256 * 256);
+    assert_eq!(primary.packets, 256 * 256 / 8);
     let (p, r) = (primary.lane_utilisation(), random.lane_utilisation());
     assert!(p > 0.0 && p <= 1.0, "primary {p}");
     assert_eq!(primary.fallback_rays, 0, "coherent packets stay packets");

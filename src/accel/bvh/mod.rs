@@ -53,7 +53,7 @@ pub mod traverse_packet;
 pub mod traverse_single;
 pub mod wide;
 
-pub use build_sah::{BuildOptions, MAX_DEPTH};
+pub use build_sah::{BuildOptions, MAX_DEPTH, SMALL_SCENE_PRIMITIVES};
 
 /// Most bytes of a child [`Bvh::prefetch`] asks for.
 const PREFETCH_BYTES: usize = 256;
@@ -128,9 +128,10 @@ pub struct BvhInfo {
 }
 
 impl Bvh {
-    /// Build over `prims` with the default [`BuildOptions`].
+    /// Build over `prims` with the [`BuildOptions`] for their number
+    /// ([`BuildOptions::for_primitives`]).
     pub fn new(prims: &[Primitive]) -> Self {
-        Self::with_options(prims, &BuildOptions::default())
+        Self::with_options(prims, &BuildOptions::for_primitives(prims.len()))
     }
 
     /// Build over `prims`; a hit's primitive index is the position in `prims`.
