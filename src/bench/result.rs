@@ -16,6 +16,11 @@ use crate::environment::Environment;
 pub struct BenchResult<R> {
     /// The bench subcommand: `kernels`, `scene` or `traversal`.
     pub command: String,
+    /// raypack's arguments as given (`bench traversal assets/dragon.ply
+    /// --threads 1,2 …`), for a reader to run it again; empty in results
+    /// stored before they were kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub arguments: Vec<String>,
     /// The machine and build it ran on.
     pub environment: Environment,
     /// The command's rows, as its table shows them.
@@ -35,6 +40,7 @@ impl<R: Serialize> BenchResult<R> {
     pub fn stored(&self) -> Result<StoredResult, serde_json::Error> {
         Ok(BenchResult {
             command: self.command.clone(),
+            arguments: self.arguments.clone(),
             environment: self.environment.clone(),
             rows: self
                 .rows

@@ -3,12 +3,13 @@
 //! render's JSON sidecar). Charts are drawn with plotters as SVG and inlined
 //! as data URIs, so the page loads nothing from anywhere.
 //!
-//! [`page`] lays the page out; [`chart`] draws a figure group's medians as bars
+//! [`page`] lays the page out; [`engines`] tables raypack against Embree; [`chart`] draws a figure group's medians as bars
 //! with their 95% intervals; [`lines`] draws figures over thread counts or
 //! scene sizes;
 //! [`html`] escapes text and inlines images.
 
 pub mod chart;
+pub mod engines;
 pub mod html;
 pub mod lines;
 pub mod page;

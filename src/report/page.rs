@@ -1,4 +1,5 @@
-//! The report page: per result file, its environment, a chart per group of
+//! The report page: raypack against Embree by ray kind ([`engines`]), then
+//! per result file, the command that made it, its environment, a chart per group of
 //! figures (one figure name and unit, one scene), thread scaling where more
 //! than one thread count was measured, growth over scene sizes where scenes
 //! of several sizes were, and the comparison with a baseline when the run
@@ -11,6 +12,7 @@ use crate::bench::figure::Figure;
 use crate::bench::result::StoredResult;
 use crate::report::ReportError;
 use crate::report::chart::{Bar, interval_bars};
+use crate::report::engines;
 use crate::report::html::{escape, png_image, svg_image};
 use crate::report::lines::{Line, XAxis, over};
 
@@ -86,6 +88,9 @@ pub fn page(inputs: &[Input], pictures: &[Picture], date: &str) -> Result<String
             .collect::<Vec<_>>()
             .join(", ")
     );
+    if let Some(table) = engines::table(inputs) {
+        out.push_str(&table);
+    }
     for input in inputs {
         section(&mut out, input)?;
     }
@@ -108,11 +113,16 @@ pub fn page(inputs: &[Input], pictures: &[Picture], date: &str) -> Result<String
 /// One result file's section.
 fn section(out: &mut String, input: &Input) -> Result<(), ReportError> {
     let r = &input.result;
+    let command = if r.arguments.is_empty() {
+        format!("bench {}", r.command)
+    } else {
+        r.arguments.join(" ")
+    };
     let _ = writeln!(
         out,
-        "<section><h2>{}: <code>raypack bench {}</code></h2>",
+        "<section><h2>{}: <code>raypack {}</code></h2>",
         escape(&input.name),
-        escape(&r.command)
+        escape(&command)
     );
     out.push_str("<table><tbody>");
     for (name, value) in r.environment.rows() {
@@ -330,6 +340,7 @@ mod tests {
             name: "scene <1>.json".into(),
             result: StoredResult {
                 command: "scene".into(),
+                arguments: Vec::new(),
                 environment: Environment::collect(),
                 rows: Vec::new(),
                 figures,

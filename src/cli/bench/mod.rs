@@ -107,6 +107,10 @@ impl<'a> Run<'a> {
     ) -> CliResult {
         let mut result = BenchResult {
             command: self.command.to_string(),
+            arguments: std::env::args_os()
+                .skip(1)
+                .map(|a| a.to_string_lossy().into_owned())
+                .collect(),
             environment: environment(embree_config)?,
             rows,
             figures,

@@ -1,0 +1,282 @@
+//! The report's table of raypack against Embree: per result file, scene and
+//! thread count, each ray kind's best raypack path (single rays or packets)
+//! against Embree's best path and setting, the same rays in one run, and the
+//! build times. Best against best is the comparison issue 17 asks for: a
+//! reader who picks the faster of each engine's ways to trace gets these.
+
+use std::fmt::Write as _;
+
+use crate::bench::figure::Figure;
+use crate::report::html::escape;
+use crate::report::page::Input;
+
+/// The ray kinds in the order `bench traversal` names them; others follow.
+const KIND_ORDER: [&str; 5] = ["primary", "shadow", "ao", "diffuse", "random"];
+
+/// The engine label of raypack's figures; any other engine is a rival.
+const RAYPACK: &str = "raypack";
+
+/// One row: where it comes from, and per column (ray kinds, then the build)
+/// raypack's figure against the rivals' best.
+struct Row<'a> {
+    input: &'a str,
+    scene: &'a str,
+    threads: &'a str,
+    cells: Vec<(String, Option<Cell>)>,
+}
+
+/// raypack's best median against the rivals' best, and whether higher is better.
+#[derive(Clone, Copy)]
+struct Cell {
+    raypack: f64,
+    rival: f64,
+    higher_is_better: bool,
+}
+
+impl Cell {
+    /// raypack's figure over the rival's: above 1 is faster for throughput,
+    /// below 1 for build times.
+    fn ratio(&self) -> f64 {
+        self.raypack / self.rival
+    }
+
+    /// True where raypack is at least as fast.
+    fn ahead(&self) -> bool {
+        if self.higher_is_better {
+            self.ratio() >= 1.0
+        } else {
+            self.ratio() <= 1.0
+        }
+    }
+}
+
+/// The best median among `figures` for raypack (`ours`) or for the rivals.
+fn best<'a>(figures: impl Iterator<Item = &'a Figure>, ours: bool, higher_is_better: bool) -> Option<f64> {
+    figures
+        .filter(|f| (f.label("engine") == RAYPACK) == ours)
+        .map(|f| f.summary.median)
+        .reduce(|a, b| if (a < b) == higher_is_better { b } else { a })
+}
+
+/// The cell of `figures` (one scene, thread count and kind or build), if
+/// both raypack and a rival were measured.
+fn cell<'a>(figures: impl Iterator<Item = &'a Figure> + Clone, higher_is_better: bool) -> Option<Cell> {
+    Some(Cell {
+        raypack: best(figures.clone(), true, higher_is_better)?,
+        rival: best(figures, false, higher_is_better)?,
+        higher_is_better,
+    })
+}
+
+/// The rows of one result file: a row per scene and thread count with both
+/// engines' throughput, in order of appearance; columns `kinds` then `build`.
+fn rows<'a>(input: &'a Input, kinds: &[&str]) -> Vec<Row<'a>> {
+    let figures = &input.result.figures;
+    let mut keys: Vec<(&str, &str)> = Vec::new();
+    for f in figures.iter().filter(|f| f.name == "throughput") {
+        let key = (f.label("scene"), f.label("threads"));
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    keys.into_iter()
+        .filter_map(|(scene, threads)| {
+            let here = figures
+                .iter()
+                .filter(move |f| f.label("scene") == scene && f.label("threads") == threads);
+            let mut cells: Vec<(String, Option<Cell>)> = kinds
+                .iter()
+                .map(|&kind| {
+                    let of_kind = here
+                        .clone()
+                        .filter(move |f| f.name == "throughput" && f.label("rays") == kind);
+                    (kind.to_string(), cell(of_kind, true))
+                })
+                .collect();
+            cells.push((
+                "build".to_string(),
+                cell(here.clone().filter(|f| f.name == "build"), false),
+            ));
+            cells.iter().any(|(_, c)| c.is_some()).then_some(Row {
+                input: &input.name,
+                scene,
+                threads,
+                cells,
+            })
+        })
+        .collect()
+}
+
+/// The ray kinds among the throughput figures of `inputs`, in
+/// [`KIND_ORDER`] and then in order of appearance.
+fn kinds(inputs: &[Input]) -> Vec<&str> {
+    let mut seen: Vec<&str> = Vec::new();
+    for f in inputs
+        .iter()
+        .flat_map(|i| &i.result.figures)
+        .filter(|f| f.name == "throughput")
+    {
+        let kind = f.label("rays");
+        if !kind.is_empty() && !seen.contains(&kind) {
+            seen.push(kind);
+        }
+    }
+    let rank = |k: &str| {
+        KIND_ORDER
+            .iter()
+            .position(|o| *o == k)
+            .unwrap_or(KIND_ORDER.len())
+    };
+    // A stable sort keeps the unknown kinds in order of appearance.
+    seen.sort_by_key(|k| rank(k));
+    seen
+}
+
+/// The table as HTML, or None where no result file measured raypack and
+/// another engine on the same ray kinds.
+pub fn table(inputs: &[Input]) -> Option<String> {
+    let kinds = kinds(inputs);
+    let rows: Vec<Row> = inputs
+        .iter()
+        .filter(|i| i.result.command.starts_with("traversal"))
+        .flat_map(|i| rows(i, &kinds))
+        .collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let mut out = String::from(
+        "<section><h2>raypack against Embree, by ray kind</h2>\n<p>Per scene and thread count: \
+         raypack's best path (single rays or 8-ray packets) / Embree's best (<code>rtcIntersect1</code> \
+         / <code>rtcOccluded1</code> or 8-wide packets, at <code>isa=avx2</code> or its default), \
+         medians in Mrays/s of the same rays in one run, and their ratio; build: milliseconds, \
+         raypack's against Embree's faster setting (below 1× is faster). Each file's command and \
+         machine are in its section below.</p>\n<table><thead><tr><th>results</th><th>scene</th>\
+         <th>threads</th>",
+    );
+    for kind in &kinds {
+        let _ = write!(out, "<th>{}</th>", escape(kind));
+    }
+    out.push_str("<th>build</th></tr></thead><tbody>\n");
+    for row in &rows {
+        let _ = write!(
+            out,
+            "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td>",
+            escape(row.input),
+            escape(row.scene),
+            escape(row.threads)
+        );
+        for (_, c) in &row.cells {
+            match c {
+                Some(c) => {
+                    let _ = write!(
+                        out,
+                        "<td class=\"num {}\">{:.3} / {:.3} ({:.2}×)</td>",
+                        if c.ahead() { "faster" } else { "slower" },
+                        c.raypack,
+                        c.rival,
+                        c.ratio()
+                    );
+                }
+                None => out.push_str("<td></td>"),
+            }
+        }
+        out.push_str("</tr>\n");
+    }
+    out.push_str("</tbody></table></section>\n");
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::figure::Better;
+    use crate::bench::result::StoredResult;
+    use crate::environment::Environment;
+    use crate::statistics::Summary;
+
+    fn figure(name: &str, labels: &[(&str, &str)], median: f64) -> Figure {
+        let labels: Vec<(&str, String)> = labels.iter().map(|(k, v)| (*k, v.to_string())).collect();
+        let s = Summary::of(&[median, median, median]).unwrap();
+        let (unit, better) = if name == "build" {
+            ("ms", Better::Lower)
+        } else {
+            ("Mrays/s", Better::Higher)
+        };
+        Figure::new(name, unit, better, &labels, s)
+    }
+
+    fn throughput(engine: &str, kernel: &str, rays: &str, median: f64) -> Figure {
+        figure(
+            "throughput",
+            &[
+                ("scene", "dragon"),
+                ("threads", "1"),
+                ("engine", engine),
+                ("kernel", kernel),
+                ("rays", rays),
+            ],
+            median,
+        )
+    }
+
+    fn input(command: &str, figures: Vec<Figure>) -> Input {
+        Input {
+            name: "traversal-dragon.json".into(),
+            result: StoredResult {
+                command: command.into(),
+                arguments: Vec::new(),
+                environment: Environment::collect(),
+                rows: Vec::new(),
+                figures,
+                comparison: None,
+            },
+        }
+    }
+
+    /// Each cell is the best raypack path against the best rival path and
+    /// setting; kinds come in the bench's order; builds compare the faster.
+    #[test]
+    fn best_against_best_per_kind_and_build() {
+        let build = |engine: &str, ms: f64| {
+            figure(
+                "build",
+                &[("scene", "dragon"), ("threads", "1"), ("engine", engine)],
+                ms,
+            )
+        };
+        let figures = vec![
+            throughput("raypack", "single", "diffuse", 3.9),
+            throughput("raypack", "packet8", "diffuse", 3.5),
+            throughput("embree(avx2)", "packet8", "diffuse", 4.2),
+            throughput("embree(default)", "single", "diffuse", 4.0),
+            throughput("raypack", "packet8", "primary", 28.0),
+            throughput("embree(avx2)", "packet8", "primary", 16.0),
+            build("raypack", 300.0),
+            build("embree(avx2)", 420.0),
+            build("embree(default)", 400.0),
+        ];
+        let html = table(&[input("traversal assets/dragon.ply", figures)]).expect("a table");
+        let primary = html.find("<th>primary</th>").unwrap();
+        let diffuse = html.find("<th>diffuse</th>").unwrap();
+        assert!(primary < diffuse, "{html}");
+        assert!(html.contains("28.000 / 16.000 (1.75×)"), "{html}");
+        assert!(html.contains("\"num slower\">3.900 / 4.200 (0.93×)"), "{html}");
+        assert!(
+            html.contains("\"num faster\">300.000 / 400.000 (0.75×)"),
+            "{html}"
+        );
+    }
+
+    /// No table without a rival engine, nor from other commands.
+    #[test]
+    fn needs_two_engines_in_a_traversal_result() {
+        let ours = vec![throughput("raypack", "single", "ao", 5.0)];
+        assert!(table(&[input("traversal assets/dragon.ply", ours)]).is_none());
+        let both = vec![
+            throughput("raypack", "single", "ao", 5.0),
+            throughput("embree(avx2)", "single", "ao", 5.0),
+        ];
+        assert!(table(&[input("scene scenes/spd_balls.nff", both.clone())]).is_none());
+        assert!(table(&[input("traversal x", both)]).is_some());
+    }
+}
