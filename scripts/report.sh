@@ -46,7 +46,7 @@ if [ "${1:-}" = --measure ]; then
     into docs/results/scene-spd_balls.json "$RAYPACK" bench scene scenes/spd_balls.nff \
         --size 256x256 --threads 1,2 --engine "$ENGINES" --json
     into docs/results/traversal.json "$RAYPACK" bench traversal --sizes 1000,10000,100000 \
-        --size 256x256 --random 65536 --threads 1,2 --engine "$ENGINES" --json
+        --size 1024x1024 --random 262144 --threads 1,2 --engine "$ENGINES" --json
     # Every ray kind on the SPD balls, a 10^3- and a 10^6-triangle mesh and (once
     # scripts/fetch-assets.sh has run) the dragon, secondary rays from 1024x1024
     # primary hits (256k-ray sets: smaller ones read slowly on some VMs, docs/measurements.md).

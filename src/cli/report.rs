@@ -9,8 +9,9 @@ use crate::atomic_file::AtomicFile;
 use crate::bench::result::StoredResult;
 use crate::cli::{CliError, CliResult};
 use crate::environment::Environment;
+use crate::report::Input;
 use crate::report::html::is_png;
-use crate::report::page::{Input, Picture, page};
+use crate::report::page::{Picture, page};
 
 /// Options of `report`.
 #[derive(clap::Args, Debug)]

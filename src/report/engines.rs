@@ -7,8 +7,8 @@
 use std::fmt::Write as _;
 
 use crate::bench::figure::Figure;
+use crate::report::Input;
 use crate::report::html::escape;
-use crate::report::page::Input;
 
 /// The ray kinds in the order `bench traversal` names them; others follow.
 const KIND_ORDER: [&str; 5] = ["primary", "shadow", "ao", "diffuse", "random"];
@@ -132,6 +132,17 @@ fn kinds(inputs: &[Input]) -> Vec<&str> {
     seen
 }
 
+/// `v` to three significant digits (two decimals below 10, none from 100).
+fn significant(v: f64) -> String {
+    let decimals = match v.abs() {
+        a if a >= 100.0 => 0,
+        a if a >= 10.0 => 1,
+        a if a >= 1.0 => 2,
+        _ => 3,
+    };
+    format!("{v:.decimals$}")
+}
+
 /// The table as HTML, or None where no result file measured raypack and
 /// another engine on the same ray kinds.
 pub fn table(inputs: &[Input]) -> Option<String> {
@@ -170,10 +181,10 @@ pub fn table(inputs: &[Input]) -> Option<String> {
                 Some(c) => {
                     let _ = write!(
                         out,
-                        "<td class=\"num {}\">{:.3} / {:.3} ({:.2}×)</td>",
+                        "<td class=\"num {}\">{} / {} ({:.2}×)</td>",
                         if c.ahead() { "faster" } else { "slower" },
-                        c.raypack,
-                        c.rival,
+                        significant(c.raypack),
+                        significant(c.rival),
                         c.ratio()
                     );
                 }
@@ -259,12 +270,10 @@ mod tests {
         let primary = html.find("<th>primary</th>").unwrap();
         let diffuse = html.find("<th>diffuse</th>").unwrap();
         assert!(primary < diffuse, "{html}");
-        assert!(html.contains("28.000 / 16.000 (1.75×)"), "{html}");
-        assert!(html.contains("\"num slower\">3.900 / 4.200 (0.93×)"), "{html}");
-        assert!(
-            html.contains("\"num faster\">300.000 / 400.000 (0.75×)"),
-            "{html}"
-        );
+        assert!(html.contains("28.0 / 16.0 (1.75×)"), "{html}");
+        assert!(html.contains("\"num slower\">3.90 / 4.20 (0.93×)"), "{html}");
+        assert!(html.contains("\"num faster\">300 / 400 (0.75×)"), "{html}");
+        assert_eq!(significant(0.4581), "0.458");
     }
 
     /// No table without a rival engine, nor from other commands.

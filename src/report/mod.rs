@@ -8,11 +8,22 @@
 //! scene sizes;
 //! [`html`] escapes text and inlines images.
 
+use crate::bench::result::StoredResult;
+
 pub mod chart;
 pub mod engines;
 pub mod html;
 pub mod lines;
 pub mod page;
+
+/// A result file to report.
+#[derive(Debug, Clone)]
+pub struct Input {
+    /// Its name on the page (the file name).
+    pub name: String,
+    /// What it holds.
+    pub result: StoredResult,
+}
 
 /// Why a page could not be made.
 #[derive(Debug, thiserror::Error)]

@@ -9,21 +9,11 @@ use std::fmt::Write as _;
 
 use crate::bench::change::Comparison;
 use crate::bench::figure::Figure;
-use crate::bench::result::StoredResult;
-use crate::report::ReportError;
 use crate::report::chart::{Bar, interval_bars};
 use crate::report::engines;
 use crate::report::html::{escape, png_image, svg_image};
 use crate::report::lines::{Line, XAxis, over};
-
-/// A result file to report.
-#[derive(Debug, Clone)]
-pub struct Input {
-    /// Its name on the page (the file name).
-    pub name: String,
-    /// What it holds.
-    pub result: StoredResult,
-}
+use crate::report::{Input, ReportError};
 
 /// A picture shown with the figures: an annotated render, a heat map.
 #[derive(Clone, Debug)]
@@ -317,6 +307,7 @@ fn comparison(out: &mut String, c: &Comparison) {
 mod tests {
     use super::*;
     use crate::bench::figure::Better;
+    use crate::bench::result::StoredResult;
     use crate::environment::Environment;
     use crate::statistics::Summary;
 
