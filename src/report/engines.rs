@@ -17,12 +17,12 @@ const KIND_ORDER: [&str; 5] = ["primary", "shadow", "ao", "diffuse", "random"];
 const RAYPACK: &str = "raypack";
 
 /// One row: where it comes from, and per column (ray kinds, then the build)
-/// raypack's figure against the rivals' best.
+/// raypack's figure against the rivals' best (None where one is missing).
 struct Row<'a> {
     input: &'a str,
     scene: &'a str,
     threads: &'a str,
-    cells: Vec<(String, Option<Cell>)>,
+    cells: Vec<Option<Cell>>,
 }
 
 /// raypack's best median against the rivals' best, and whether higher is better.
@@ -84,20 +84,17 @@ fn rows<'a>(input: &'a Input, kinds: &[&str]) -> Vec<Row<'a>> {
             let here = figures
                 .iter()
                 .filter(move |f| f.label("scene") == scene && f.label("threads") == threads);
-            let mut cells: Vec<(String, Option<Cell>)> = kinds
+            let mut cells: Vec<Option<Cell>> = kinds
                 .iter()
                 .map(|&kind| {
                     let of_kind = here
                         .clone()
                         .filter(move |f| f.name == "throughput" && f.label("rays") == kind);
-                    (kind.to_string(), cell(of_kind, true))
+                    cell(of_kind, true)
                 })
                 .collect();
-            cells.push((
-                "build".to_string(),
-                cell(here.clone().filter(|f| f.name == "build"), false),
-            ));
-            cells.iter().any(|(_, c)| c.is_some()).then_some(Row {
+            cells.push(cell(here.clone().filter(|f| f.name == "build"), false));
+            cells.iter().any(Option::is_some).then_some(Row {
                 input: &input.name,
                 scene,
                 threads,
@@ -176,7 +173,7 @@ pub fn table(inputs: &[Input]) -> Option<String> {
             escape(row.scene),
             escape(row.threads)
         );
-        for (_, c) in &row.cells {
+        for c in &row.cells {
             match c {
                 Some(c) => {
                     let _ = write!(
@@ -201,8 +198,6 @@ pub fn table(inputs: &[Input]) -> Option<String> {
 mod tests {
     use super::*;
     use crate::bench::figure::Better;
-    use crate::bench::result::StoredResult;
-    use crate::environment::Environment;
     use crate::statistics::Summary;
 
     fn figure(name: &str, labels: &[(&str, &str)], median: f64) -> Figure {
@@ -231,17 +226,7 @@ mod tests {
     }
 
     fn input(command: &str, figures: Vec<Figure>) -> Input {
-        Input {
-            name: "traversal-dragon.json".into(),
-            result: StoredResult {
-                command: command.into(),
-                arguments: Vec::new(),
-                environment: Environment::collect(),
-                rows: Vec::new(),
-                figures,
-                comparison: None,
-            },
-        }
+        Input::of_figures("traversal-dragon.json", command, figures)
     }
 
     /// Each cell is the best raypack path against the best rival path and

@@ -25,6 +25,25 @@ pub struct Input {
     pub result: StoredResult,
 }
 
+impl Input {
+    /// A result of `command` holding `figures`, named `name`, measured here
+    /// and now (for tests).
+    #[cfg(test)]
+    pub(crate) fn of_figures(name: &str, command: &str, figures: Vec<crate::bench::figure::Figure>) -> Self {
+        Self {
+            name: name.into(),
+            result: StoredResult {
+                command: command.into(),
+                arguments: Vec::new(),
+                environment: crate::environment::Environment::collect(),
+                rows: Vec::new(),
+                figures,
+                comparison: None,
+            },
+        }
+    }
+}
+
 /// Why a page could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {

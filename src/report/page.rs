@@ -307,8 +307,6 @@ fn comparison(out: &mut String, c: &Comparison) {
 mod tests {
     use super::*;
     use crate::bench::figure::Better;
-    use crate::bench::result::StoredResult;
-    use crate::environment::Environment;
     use crate::statistics::Summary;
 
     fn figure(name: &str, labels: &[(&str, &str)], median: f64) -> Figure {
@@ -327,17 +325,7 @@ mod tests {
     }
 
     fn input(figures: Vec<Figure>) -> Input {
-        Input {
-            name: "scene <1>.json".into(),
-            result: StoredResult {
-                command: "scene".into(),
-                arguments: Vec::new(),
-                environment: Environment::collect(),
-                rows: Vec::new(),
-                figures,
-                comparison: None,
-            },
-        }
+        Input::of_figures("scene <1>.json", "scene", figures)
     }
 
     #[test]
