@@ -22,10 +22,11 @@ use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Sub};
 
 pub use isa::Isa;
 
-/// The storage of 8 lanes: wide nodes' boxes and leaf blocks hold their
-/// planes as this type's arrays, and every instruction set reads them with its
-/// own 8-lane type ([`SimdFloat::Lanes8`]). Nodes and blocks are 8 wide on
-/// every machine, so one tree serves every instruction set.
+/// The storage of 8 lanes: leaf blocks hold their constants as this type's
+/// arrays, and every instruction set reads them with its own 8-lane type
+/// ([`SimdFloat::Lanes8`]); wide nodes are read in parts of that type too
+/// (`accel::bvh::wide`). Blocks and nodes are as wide on every machine, so
+/// one tree serves every instruction set.
 pub type NodeLanes = wide::f32x8;
 
 /// A [`SimdFloat`] of 8 lanes: what single rays test wide nodes and leaf blocks with.

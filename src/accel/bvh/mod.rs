@@ -1,12 +1,12 @@
 //! A bounding volume hierarchy over a scene's bounded primitives, built as a
 //! binary tree of 32-byte nodes with binned SAH ([`build_sah`], [`node`]) and
-//! also collapsed into 8-wide nodes ([`wide`], 4-wide without AVX) over the
-//! same leaves. 8-ray packets traverse the binary tree ([`traverse_packet`]:
+//! also collapsed into 16-wide and 8-wide nodes ([`wide`]) over the same
+//! leaves. 8-ray packets traverse the binary tree ([`traverse_packet`]:
 //! testing a packet against each box as soon as the tree branches culls more
-//! than eight boxes at once would), single rays the wide tree
-//! ([`traverse_single`], one SIMD test per node), and so do incoherent
-//! packets ([`traverse_hybrid`], together while enough lanes share a node;
-//! rays from all over the scene as single rays interleaved);
+//! than eight boxes at once would), single rays the 16-wide tree
+//! ([`traverse_single`], one SIMD test per node), and incoherent packets the
+//! 8-wide one ([`traverse_hybrid`], together while enough lanes share a node,
+//! then as single rays; rays from all over the scene as single rays interleaved);
 //! shadow rays use either ([`occlusion`]). Leaves call the primitives' own
 //! kernels; a leaf of triangles or of spheres holds them in a block a single
 //! ray tests at once ([`leaf`]).
@@ -55,7 +55,7 @@ pub mod wide;
 
 pub use build_sah::{BuildOptions, MAX_DEPTH, SMALL_SCENE_PRIMITIVES};
 
-/// Most bytes of a child [`Bvh::prefetch`] asks for.
+/// Most bytes of a leaf [`Bvh::prefetch`] asks for (a wide node is prefetched whole).
 const PREFETCH_BYTES: usize = 256;
 
 /// Ask the CPU to load the cache line holding `p` (a hint: any address is fine).
@@ -83,6 +83,21 @@ use crate::simd::{Isa, SimdFloat};
 use leaf::LeafRef;
 use leaf_store::LeafStore;
 use node::{Node, NodeId, NodePair, ROOT};
+use wide::{PacketTreeLanes, RayTreeLanes, TreeWidth, WideNodeOf};
+
+impl TreeWidth for RayTreeLanes {
+    #[inline(always)]
+    fn nodes(bvh: &Bvh) -> &[WideNodeOf<Self>] {
+        &bvh.ray_tree
+    }
+}
+
+impl TreeWidth for PacketTreeLanes {
+    #[inline(always)]
+    fn nodes(bvh: &Bvh) -> &[WideNodeOf<Self>] {
+        &bvh.packet_tree
+    }
+}
 
 /// A BVH (binary nodes for packets, wide nodes for single rays) owning a
 /// reordered copy of the primitives it holds.
@@ -90,8 +105,10 @@ use node::{Node, NodeId, NodePair, ROOT};
 pub struct Bvh {
     /// Node pairs; the root is node [`ROOT`] (pair 0, side 0).
     pairs: Vec<NodePair>,
-    /// The same tree collapsed to wide nodes, which single rays traverse.
-    wide: Vec<wide::WideNode>,
+    /// The same tree collapsed to 16-wide nodes, which single rays traverse.
+    ray_tree: Vec<wide::WideNodeOf<RayTreeLanes>>,
+    /// The same tree collapsed to 8-wide nodes, which incoherent packets traverse.
+    packet_tree: Vec<wide::WideNodeOf<PacketTreeLanes>>,
     /// The primitives, which the leaves of both trees name.
     leaves: LeafStore,
     /// The leaf of the primitives with no finite box, tested by every ray.
@@ -186,22 +203,23 @@ impl Bvh {
         let unbounded = store.push_records(unbounded_ids.iter().map(|&id| (&prims[id as usize], id)));
         let mut bvh = Self {
             pairs,
-            wide: Vec::new(),
+            ray_tree: Vec::new(),
+            packet_tree: Vec::new(),
             leaves: store,
             unbounded,
             bounded: order.len(),
             skipped,
             isa: Isa::default_level(),
         };
-        let collapsed = wide::collapse(&bvh);
-        bvh.wide = collapsed.nodes;
+        bvh.ray_tree = wide::collapse(&bvh);
+        bvh.packet_tree = wide::collapse(&bvh);
         bvh
     }
 
-    /// Bytes of what single rays read: the wide nodes and the leaves.
+    /// Bytes of what single rays read: the 16-wide nodes and the leaves.
     #[inline(always)]
     pub fn walked_bytes(&self) -> usize {
-        self.wide.len() * size_of::<wide::WideNode>() + self.leaves.bytes()
+        size_of_val(self.ray_tree.as_slice()) + self.leaves.bytes()
     }
 
     /// The instruction set queries run on: [`Isa::default_level`] when built.
@@ -230,20 +248,20 @@ impl Bvh {
         &self.pairs[pair as usize]
     }
 
-    /// Start loading what `child` leads to into the cache: the wide node's
-    /// lines, or the first lines of the leaf's blocks.
+    /// Start loading what `child` (of the tree of width `F`) leads to into
+    /// the cache: the wide node's lines, or the first lines of the leaf's blocks.
     #[inline(always)]
-    pub fn prefetch(&self, child: wide::ChildRef) {
+    pub fn prefetch<F: TreeWidth>(&self, child: wide::ChildRef) {
         let (start, bytes) = if !child.is_leaf() {
-            let node = self.wide.as_ptr().wrapping_add(child.node());
-            (node.cast::<u8>(), size_of::<wide::WideNode>())
+            let node = F::nodes(self).as_ptr().wrapping_add(child.node());
+            (node.cast::<u8>(), size_of::<wide::WideNodeOf<F>>())
         } else {
             match self.leaves.block_bytes(child.contents()) {
-                Some(blocks) => blocks,
+                Some((blocks, bytes)) => (blocks, bytes.min(PREFETCH_BYTES)),
                 None => return,
             }
         };
-        for line in (0..bytes.min(PREFETCH_BYTES)).step_by(64) {
+        for line in (0..bytes).step_by(64) {
             prefetch_line(start.wrapping_add(line));
         }
     }
@@ -281,8 +299,9 @@ impl Bvh {
             max_depth: 0,
             max_leaf_size: 0,
             sah_cost: 0.0,
-            bytes: self.pairs.len() * size_of::<NodePair>()
-                + self.wide.len() * size_of::<wide::WideNode>()
+            bytes: size_of_val(self.pairs.as_slice())
+                + size_of_val(self.ray_tree.as_slice())
+                + size_of_val(self.packet_tree.as_slice())
                 + self.leaves.bytes(),
         };
         if self.is_empty() {

@@ -12,7 +12,7 @@ use crate::accel::bvh::query::{INTERLEAVE_FROM, INTERLEAVED, PacketQuery, RayQue
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::{trace, traverse, traverse_interleaved};
-use crate::accel::bvh::wide::ChildRef;
+use crate::accel::bvh::wide::{ChildRef, TreeWidth};
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -90,7 +90,13 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     }
 
     #[inline(always)]
-    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S) {
+    fn finish_lanes<W: TreeWidth, S: Counter>(
+        &mut self,
+        bvh: &Bvh,
+        lanes: u32,
+        start: ChildRef,
+        stats: &mut S,
+    ) {
         if lanes.count_ones() < INTERLEAVE_FROM {
             for lane in lane_bits(lanes) {
                 stats.lane(lane);
@@ -99,7 +105,7 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
                     ray: &ray,
                     hit: Hit::none(&ray),
                 };
-                if traverse::<F::Lanes8, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
+                if traverse::<F::Lanes8, W, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
                     self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
                 }
             }
@@ -119,7 +125,7 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
                 };
                 (group[k], SlabRay::new(ray), query)
             });
-            let occluded = traverse_interleaved::<F::Lanes8, _, S>(bvh, start, &mut walks[..count], stats);
+            let occluded = traverse_interleaved::<F::Lanes8, W, _, S>(bvh, start, &mut walks[..count], stats);
             let bits = group[..count]
                 .iter()
                 .enumerate()

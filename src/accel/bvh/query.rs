@@ -6,7 +6,7 @@
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::wide::ChildRef;
+use crate::accel::bvh::wide::{ChildRef, TreeWidth};
 use crate::accel::stats::Counter;
 use crate::simd::{Simd8, SimdFloat};
 
@@ -40,13 +40,19 @@ pub trait PacketQuery<F: SimdFloat> {
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
 
     /// Trace the lanes of the mask `lanes` through the subtree of the wide
-    /// tree under `start` (whose box they met) as single rays (reporting each
+    /// tree of width `W` under `start` (whose box they met) as single rays (reporting each
     /// to [`Counter::lane`]), with `F`'s 8-lane type: one after the other when
     /// they are fewer than [`INTERLEAVE_FROM`], else up to [`INTERLEAVED`] at
     /// once ([`traverse_interleaved`]).
     ///
     /// [`traverse_interleaved`]: crate::accel::bvh::traverse_single::traverse_interleaved
-    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S);
+    fn finish_lanes<W: TreeWidth, S: Counter>(
+        &mut self,
+        bvh: &Bvh,
+        lanes: u32,
+        start: ChildRef,
+        stats: &mut S,
+    );
 }
 
 /// Most rays [`traverse_interleaved`](crate::accel::bvh::traverse_single::traverse_interleaved)

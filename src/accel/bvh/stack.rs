@@ -9,7 +9,7 @@ use crate::accel::bvh::MAX_DEPTH;
 
 /// Slots of a single-ray traversal's stack (12-byte entries: 3 KiB). The
 /// collapse into wide nodes keeps every root-to-leaf path within it (see
-/// [`PENDING_BUDGET`](crate::accel::bvh::wide::PENDING_BUDGET)). Kept small on
+/// [`pending_budget`](crate::accel::bvh::wide::pending_budget)). Kept small on
 /// purpose: a stack frame past one 4 KiB page gets probed on every call, which
 /// cost a third of the single-ray time on a 1,000-triangle scene.
 pub const WIDE_STACK_SLOTS: usize = 256;

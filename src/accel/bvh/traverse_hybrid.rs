@@ -16,7 +16,7 @@ use crate::accel::bvh::Bvh;
 use crate::accel::bvh::query::PacketQuery;
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
-use crate::accel::bvh::wide::{ChildRef, WIDTH};
+use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes, TreeWidth};
 use crate::accel::stats::Counter;
 use crate::simd::SimdFloat;
 
@@ -60,7 +60,13 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
         if bits.count_ones() <= single_ray_lanes {
             // Too few lanes left to share the work (or none shared at all).
             stats.fallback(u64::from(bits.count_ones()));
-            query.finish_lanes(bvh, bits, next, stats);
+            if next == ChildRef::ROOT {
+                // From the root (all lanes, or too few to share anything):
+                // the single rays' own, wider tree.
+                query.finish_lanes::<RayTreeLanes, S>(bvh, bits, next, stats);
+            } else {
+                query.finish_lanes::<PacketTreeLanes, S>(bvh, bits, next, stats);
+            }
         } else if next.is_leaf() {
             if !next.is_empty() {
                 stats.packet_node(active);
@@ -70,10 +76,10 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
             stats.packet_node(active);
             // Test each child's box against the active lanes; the children
             // met are pushed nearest last, so it is popped first.
-            let node = &bvh.wide[next.node()];
+            let node = &PacketTreeLanes::nodes(bvh)[next.node()];
             let t_max = query.t_max();
             let base = stack.len();
-            for i in 0..WIDTH {
+            for i in 0..PacketTreeLanes::LANES {
                 let child = node.slot(i);
                 if child.is_empty() {
                     break;
@@ -84,7 +90,7 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
                 if met.none() {
                     continue;
                 }
-                bvh.prefetch(child);
+                bvh.prefetch::<PacketTreeLanes>(child);
                 if !Q::NEAREST_FIRST {
                     // Any hit: no order, and the lanes' reach does not shrink.
                     stack.push(Pending {

@@ -34,7 +34,7 @@ use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
 use crate::accel::bvh::traverse_hybrid::traverse_hybrid;
 use crate::accel::bvh::traverse_single::{Nearest, traverse, traverse_interleaved};
-use crate::accel::bvh::wide::ChildRef;
+use crate::accel::bvh::wide::{ChildRef, TreeWidth};
 use crate::accel::stats::Counter;
 use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
@@ -262,7 +262,13 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     }
 
     #[inline(always)]
-    fn finish_lanes<S: Counter>(&mut self, bvh: &Bvh, lanes: u32, start: ChildRef, stats: &mut S) {
+    fn finish_lanes<W: TreeWidth, S: Counter>(
+        &mut self,
+        bvh: &Bvh,
+        lanes: u32,
+        start: ChildRef,
+        stats: &mut S,
+    ) {
         if lanes.count_ones() < INTERLEAVE_FROM {
             for lane in lane_bits(lanes) {
                 stats.lane(lane);
@@ -272,7 +278,7 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
                     ray: &ray,
                     hit: &mut hit,
                 };
-                traverse::<F::Lanes8, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats);
+                traverse::<F::Lanes8, W, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats);
                 self.hits.set_hit(lane, &hit);
             }
             return;
@@ -291,7 +297,7 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
                 let hit = records.next().expect("one record per walk");
                 (group[k], SlabRay::new(ray), Nearest { ray, hit })
             });
-            traverse_interleaved::<F::Lanes8, _, S>(bvh, start, &mut walks[..count], stats);
+            traverse_interleaved::<F::Lanes8, W, _, S>(bvh, start, &mut walks[..count], stats);
             for (k, &lane) in group[..count].iter().enumerate() {
                 self.hits.set_hit(lane, &hits[k]);
             }

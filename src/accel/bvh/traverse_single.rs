@@ -17,15 +17,16 @@ use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::query::{INTERLEAVED, RayQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
-use crate::accel::bvh::wide::{ChildRef, WIDTH};
+use crate::accel::bvh::wide::{ChildRef, RayTreeLanes, TreeWidth};
 use crate::accel::stats::Counter;
 use crate::ray::{Hit, Ray};
 use crate::simd::Simd8;
 
-/// Traverse the subtree under `start` (whose box the ray is known to meet, or
-/// [`ChildRef::ROOT`]); returns true if the query ended the traversal early.
+/// Traverse the subtree under `start` of the wide tree of width `W` (whose
+/// box the ray is known to meet, or [`ChildRef::ROOT`]); returns true if the
+/// query ended the traversal early.
 #[inline(always)]
-pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
+pub fn traverse<N: Simd8, W: TreeWidth, Q: RayQuery, S: Counter>(
     bvh: &Bvh,
     start: ChildRef,
     slab: &SlabRay,
@@ -34,7 +35,7 @@ pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
 ) -> bool {
     let mut walk = Walk::new(start);
     loop {
-        if let Some(ended_early) = walk.step::<N, Q, S, false>(bvh, slab, query, stats) {
+        if let Some(ended_early) = walk.step::<N, W, Q, S, false>(bvh, slab, query, stats) {
             return ended_early;
         }
     }
@@ -49,7 +50,7 @@ pub fn traverse<N: Simd8, Q: RayQuery, S: Counter>(
 /// the wait (the misses of several rays overlap, where one ray's come one
 /// after the other).
 #[inline(always)]
-pub fn traverse_interleaved<N: Simd8, Q: RayQuery, S: Counter>(
+pub fn traverse_interleaved<N: Simd8, W: TreeWidth, Q: RayQuery, S: Counter>(
     bvh: &Bvh,
     start: ChildRef,
     walks: &mut [(usize, SlabRay, Q)],
@@ -71,7 +72,7 @@ pub fn traverse_interleaved<N: Simd8, Q: RayQuery, S: Counter>(
             stats.lane(*lane);
             // SAFETY: the first `count` states were written above.
             let state = unsafe { states[k].assume_init_mut() };
-            if let Some(early) = state.step::<N, Q, S, true>(bvh, slab, query, stats) {
+            if let Some(early) = state.step::<N, W, Q, S, true>(bvh, slab, query, stats) {
                 walking &= !(1 << k);
                 ended_early |= u32::from(early) << k;
             }
@@ -102,7 +103,7 @@ impl Walk {
     /// (walks interleaved with others) the child chosen next is prefetched
     /// too; a walk alone loads it at once.
     #[inline(always)]
-    fn step<N: Simd8, Q: RayQuery, S: Counter, const PREFETCH_NEXT: bool>(
+    fn step<N: Simd8, W: TreeWidth, Q: RayQuery, S: Counter, const PREFETCH_NEXT: bool>(
         &mut self,
         bvh: &Bvh,
         slab: &SlabRay,
@@ -118,8 +119,9 @@ impl Walk {
             }
         } else {
             // Test all children's boxes at once.
-            let node = &bvh.wide[next.node()];
+            let node = &W::nodes(bvh)[next.node()];
             let (mut bits, t) = node.entry::<N>(slab, query.t_max());
+            let t = t.as_ref();
             let rest = bits & bits.wrapping_sub(1);
             if bits != 0 && rest & rest.wrapping_sub(1) == 0 {
                 // One or two children met (nine visits in ten): descend into
@@ -127,17 +129,17 @@ impl Walk {
                 // whether there is a second, are coin tosses a branch
                 // predictor loses, so both are settled by selects.
                 let i = bits.trailing_zeros() as usize;
-                let j = rest.trailing_zeros() as usize % WIDTH; // any slot when `rest` is 0
+                let j = rest.trailing_zeros() as usize % W::LANES; // any slot when `rest` is 0
                 let j_nearer = Q::NEAREST_FIRST && rest != 0 && t[j] < t[i];
                 let (near, far) = std::hint::select_unpredictable(j_nearer, (j, i), (i, j));
                 // The far child is wanted later: have its lines loaded by then.
                 if rest != 0 {
-                    bvh.prefetch(node.slot(far));
+                    bvh.prefetch::<W>(node.slot(far));
                 }
                 stack.push_if((node.slot(far), t[far]), rest != 0);
                 self.next = node.slot(near);
                 if PREFETCH_NEXT {
-                    bvh.prefetch(self.next);
+                    bvh.prefetch::<W>(self.next);
                 }
                 return None;
             }
@@ -147,7 +149,7 @@ impl Walk {
             while bits != 0 {
                 let i = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                bvh.prefetch(node.slot(i));
+                bvh.prefetch::<W>(node.slot(i));
                 stack.push((node.slot(i), t[i]));
                 if !Q::NEAREST_FIRST {
                     continue;
@@ -208,7 +210,8 @@ pub fn trace<N: Simd8, Q: RayQuery, S: Counter>(bvh: &Bvh, ray: &Ray, query: &mu
     {
         return true;
     }
-    !bvh.is_empty() && traverse::<N, Q, S>(bvh, ChildRef::ROOT, &SlabRay::new(ray), query, stats)
+    !bvh.is_empty()
+        && traverse::<N, RayTreeLanes, Q, S>(bvh, ChildRef::ROOT, &SlabRay::new(ray), query, stats)
 }
 
 /// The nearest hit of `ray` written into `hit` (whatever it held before), with

@@ -1,18 +1,26 @@
-//! The wide view of the BVH for single rays: each node holds the boxes of up
-//! to [`WIDTH`] (8) children in structure-of-arrays form, so one ray tests all
-//! of them with one SIMD slab test (the layout of Embree's BVH4 and
-//! BVH8, Wald et al., "Embree: a kernel framework for efficient CPU ray
-//! tracing", SIGGRAPH 2014). It is made by collapsing the binary tree (each
-//! wide node takes a binary node and opens its largest inner children until it
-//! is full), so both trees share leaves and primitive order; packets traverse
-//! the binary tree, and hand lanes they leave alone to the wide tree at the
-//! wide node made from the binary node they are at.
+//! The wide views of the BVH: each node holds the boxes of up to 8 or 16
+//! children in structure-of-arrays form, so one ray tests all of them with
+//! one SIMD slab test (the layout of Embree's BVH4 and BVH8, Wald et al.,
+//! "Embree: a kernel framework for efficient CPU ray tracing", SIGGRAPH 2014).
+//! Each is made by collapsing the binary tree (each wide node takes a binary
+//! node and opens its largest inner children until it is full), so all the
+//! trees share leaves and primitive order.
 //!
-//! 8-wide nodes halve the visits per ray against 4-wide ones on large meshes
-//! (a 10⁶-triangle mesh is log₈ rather than log₄ of its leaves deep), for the
-//! same latency per visit: an 8-lane test costs what a 4-lane one does (with
-//! SSE it is two 4-lane tests, which overlap). The width is the same on every
-//! machine, so the tree does not depend on the instruction set it is traced with.
+//! Two widths, for two walks:
+//! - single rays walk a 16-wide tree ([`RayTreeLanes`]) from its root: an
+//!   incoherent ray waits on each node it goes to, and 16-wide nodes make
+//!   fewer of those waits than 8-wide ones (the dragon's tree is about
+//!   log₁₆ rather than log₈ of its 70,000 leaves deep). A node is tested in
+//!   halves of the instruction set's 8-lane type, which overlap. On the
+//!   dragon and a 10⁶-triangle mesh (AMD EPYC, 1 thread) single rays of
+//!   every kind ran 11–18% faster than on 8-wide nodes;
+//! - packets walk an 8-wide tree ([`PacketTreeLanes`]) together and hand the
+//!   lanes they leave to single-ray walks of the same tree
+//!   (`traverse_hybrid`): a packet tests a node's children one by one, and
+//!   on 16-wide nodes its packets ran 3–15% slower.
+//!
+//! The widths are the same on every machine, so the trees do not depend on
+//! the instruction set they are traced with.
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::MAX_DEPTH;
@@ -21,7 +29,7 @@ use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::WIDE_STACK_SLOTS;
 use crate::bounds::Aabb;
-use crate::simd::{NodeLanes, SimdFloat, SimdU32};
+use crate::simd::{SimdFloat, SimdU32};
 
 /// What a child slot of a wide node leads to: an inner wide node, or a leaf
 /// (encoded as the binary tree's leaf node encodes it, see [`LeafRef`]). 8 bytes.
@@ -78,24 +86,35 @@ impl ChildRef {
     }
 }
 
-/// Children per wide node.
-pub const WIDTH: usize = NodeLanes::LANES;
+/// The lanes (children per node) of the wide tree single rays walk from its root.
+pub type RayTreeLanes = wide::f32x16;
+
+/// The lanes (children per node) of the wide tree packets walk, and the
+/// single-ray walks they hand lanes to.
+pub type PacketTreeLanes = wide::f32x8;
+
+/// A width of wide tree that a [`Bvh`] holds, and where it keeps its nodes.
+pub trait TreeWidth: SimdFloat {
+    /// The nodes of `bvh`'s tree of this width (node 0 holds the root's children).
+    fn nodes(bvh: &Bvh) -> &[WideNodeOf<Self>];
+}
 
 /// Pending children (the sum of `children − 1` over the wide nodes above) a
-/// root-to-leaf path may gather before the collapse stops widening nodes. Past
-/// it, wide nodes get two children, adding one pending entry per level, so no
-/// traversal holds more than `PENDING_BUDGET + MAX_DEPTH` pending entries plus
-/// the `WIDTH` of the node being expanded: the stack's slots less its spare.
-/// Trees of real scenes stay far below it (a path of ten 8-wide nodes gathers
-/// at most 70); only pathological inputs get narrower nodes deep down.
-pub const PENDING_BUDGET: usize = WIDE_STACK_SLOTS - 1 - WIDTH - MAX_DEPTH;
-
-/// The wide node single rays traverse.
-pub type WideNode = WideNodeOf<NodeLanes>;
+/// root-to-leaf path of a tree `width` wide may gather before the collapse
+/// stops widening nodes. Past it, wide nodes get two children, adding one
+/// pending entry per level, so no traversal holds more than this plus
+/// `MAX_DEPTH` pending entries plus the `width` of the node being expanded:
+/// the stack's slots less its spare. Trees of real scenes stay far below it
+/// (a path of eight 16-wide nodes gathers at most 120; the budget is 147 for
+/// 16 wide, 155 for 8); only pathological inputs get narrower nodes deep down.
+pub const fn pending_budget(width: usize) -> usize {
+    WIDE_STACK_SLOTS - 1 - width - MAX_DEPTH
+}
 
 /// Up to `F::LANES` children's (padded) boxes in structure-of-arrays form, and
 /// what each child is. For `f32x4`: 96 bytes of boxes + 32 of slots = 128 bytes
-/// (two cache lines); for `f32x8`: 192 + 64 = 256 bytes (four lines).
+/// (two cache lines); for `f32x8`: 192 + 64 = 256 bytes (four lines); for
+/// `f32x16`: 384 + 128 = 512 bytes (eight lines).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub struct WideNodeOf<F: SimdFloat> {
@@ -149,72 +168,80 @@ impl<F: SimdFloat> WideNodeOf<F> {
     /// The slab test of `ray` against all children's boxes at once: the mask of
     /// children met within `[t_min, t_max]` (bit `i` for child `i`) and their entry t.
     /// Lane `i` computes exactly what [`SlabRay::entry`] computes for child `i`.
-    /// `N` is the instruction set's type of the node's width.
+    /// `N` is the instruction set's lane type the node is tested in, in
+    /// `F::LANES / N::LANES` independent parts (a 16-wide node in two halves
+    /// of 8).
     #[inline(always)]
-    pub fn entry<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, t_max: f32) -> (u32, F::Array) {
-        let t_near = self.near::<N>(ray, 0).fast_max(
-            self.near::<N>(ray, 1)
-                .fast_max(self.near::<N>(ray, 2).fast_max(N::splat(ray.t_min))),
-        );
-        let t_far = self.far::<N>(ray, 0).fast_min(
-            self.far::<N>(ray, 1)
-                .fast_min(self.far::<N>(ray, 2).fast_min(N::splat(t_max * FAR_SCALE))),
-        );
-        (t_near.le(t_far).bitmask(), t_near.to_array())
+    pub fn entry<N: SimdFloat>(&self, ray: &SlabRay, t_max: f32) -> (u32, F::Array) {
+        let mut bits = 0;
+        let mut t = F::Array::default();
+        for part in 0..F::LANES / N::LANES {
+            let lanes = part * N::LANES..(part + 1) * N::LANES;
+            let t_near = self.near::<N>(ray, 0, part).fast_max(
+                self.near::<N>(ray, 1, part)
+                    .fast_max(self.near::<N>(ray, 2, part).fast_max(N::splat(ray.t_min))),
+            );
+            let t_far = self.far::<N>(ray, 0, part).fast_min(
+                self.far::<N>(ray, 1, part)
+                    .fast_min(self.far::<N>(ray, 2, part).fast_min(N::splat(t_max * FAR_SCALE))),
+            );
+            bits |= t_near.le(t_far).bitmask() << lanes.start;
+            t.as_mut()[lanes].copy_from_slice(t_near.to_array().as_ref());
+        }
+        (bits, t)
     }
 
     // Functions rather than closures below: everything under a level's entry
     // point must inline (see `LevelTask`).
 
-    /// Per child, the t at which `ray` crosses the plane `corner` (0: min,
-    /// 1: max) of `axis`, before scaling by `1/d`.
+    /// For the children of part `part` (lanes `part·N::LANES..`), the t at
+    /// which `ray` crosses the plane `corner` (0: min, 1: max) of `axis`,
+    /// before scaling by `1/d`.
     #[inline(always)]
-    fn plane<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, axis: usize, corner: usize) -> N {
-        N::from_array(self.bounds[axis][corner]) - N::splat(ray.origin[axis])
+    fn plane<N: SimdFloat>(&self, ray: &SlabRay, axis: usize, corner: usize, part: usize) -> N {
+        let mut planes = N::Array::default();
+        let start = part * N::LANES;
+        planes
+            .as_mut()
+            .copy_from_slice(&self.bounds[axis][corner].as_ref()[start..start + N::LANES]);
+        N::from_array(planes) - N::splat(ray.origin[axis])
     }
 
-    /// Per child, the t at which `ray` enters the slab of `axis`.
+    /// Per child of part `part`, the t at which `ray` enters the slab of `axis`.
     #[inline(always)]
-    fn near<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, axis: usize) -> N {
+    fn near<N: SimdFloat>(&self, ray: &SlabRay, axis: usize, part: usize) -> N {
         // `& 1` tells the compiler the corner is 0 or 1, so it checks no bounds.
-        self.plane::<N>(ray, axis, ray.entry_corner(axis) & 1) * N::splat(ray.inv_dir[axis])
+        self.plane::<N>(ray, axis, ray.entry_corner(axis) & 1, part) * N::splat(ray.inv_dir[axis])
     }
 
-    /// Per child, the t at which `ray` leaves the slab of `axis` (scaled up).
+    /// Per child of part `part`, the t at which `ray` leaves the slab of `axis` (scaled up).
     #[inline(always)]
-    fn far<N: SimdFloat<Array = F::Array>>(&self, ray: &SlabRay, axis: usize) -> N {
-        self.plane::<N>(ray, axis, (ray.entry_corner(axis) ^ 1) & 1) * N::splat(ray.inv_dir_far[axis])
+    fn far<N: SimdFloat>(&self, ray: &SlabRay, axis: usize, part: usize) -> N {
+        self.plane::<N>(ray, axis, (ray.entry_corner(axis) ^ 1) & 1, part) * N::splat(ray.inv_dir_far[axis])
     }
 }
 
-/// The wide tree.
-pub struct Collapsed {
-    /// Wide nodes; node 0 holds the root's children (or the root itself when
-    /// it is a leaf; nothing for an empty tree).
-    pub nodes: Vec<WideNode>,
-}
-
-/// Collapse the binary tree of `bvh` into wide nodes.
-pub fn collapse(bvh: &Bvh) -> Collapsed {
-    let mut out = Collapsed {
-        nodes: vec![WideNode::empty()],
-    };
+/// Collapse the binary tree of `bvh` into wide nodes of `F::LANES`
+/// children: node 0 holds the root's children (or the root itself when it
+/// is a leaf; nothing for an empty tree).
+pub fn collapse<F: SimdFloat>(bvh: &Bvh) -> Vec<WideNodeOf<F>> {
+    let mut nodes = vec![WideNodeOf::empty()];
     if !bvh.is_empty() {
-        fill(bvh, ROOT, 0, 0, &mut out);
+        fill(bvh, ROOT, 0, 0, &mut nodes);
     }
-    out
+    nodes
 }
 
 /// Fill wide node `at` with the binary subtree under `id`, depth first;
-/// `pending` is the path's pending count above it (see [`PENDING_BUDGET`]).
-fn fill(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Collapsed) {
+/// `pending` is the path's pending count above it (see [`pending_budget`]).
+fn fill<F: SimdFloat>(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Vec<WideNodeOf<F>>) {
     let area = |c: NodeId| {
         let n = bvh.node(c);
         Aabb::new(n.min, n.max).surface_area()
     };
     // Open the largest inner child until the node is full (or only leaves).
-    let width = if pending + WIDTH - 1 <= PENDING_BUDGET {
-        WIDTH
+    let width = if pending + F::LANES - 1 <= pending_budget(F::LANES) {
+        F::LANES
     } else {
         2
     };
@@ -234,7 +261,7 @@ fn fill(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Collapsed) {
         let opened = children.remove(i);
         children.extend(bvh.node(opened).children());
     }
-    let mut node = WideNode::empty();
+    let mut node = WideNodeOf::<F>::empty();
     let mut inner = Vec::new();
     for (i, &c) in children.iter().enumerate() {
         let n = bvh.node(c);
@@ -245,14 +272,14 @@ fn fill(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Collapsed) {
         let (index, count) = if n.is_leaf() {
             (n.first, n.meta)
         } else {
-            out.nodes.push(WideNode::empty());
-            inner.push((c, out.nodes.len() - 1));
-            (out.nodes.len() as u32 - 1, 0)
+            out.push(WideNodeOf::empty());
+            inner.push((c, out.len() - 1));
+            (out.len() as u32 - 1, 0)
         };
         node.index.as_mut()[i] = index;
         node.count.as_mut()[i] = count;
     }
-    out.nodes[at] = node;
+    out[at] = node;
     for (c, slot) in inner {
         fill(bvh, c, slot, pending + children.len() - 1, out);
     }
@@ -268,16 +295,18 @@ mod tests {
     use glam::Vec3;
 
     /// Each lane of the wide box test answers as the scalar slab test of that
-    /// box: 2¹⁹ random rays against random nodes of 1 to 4 (`f32x4`) or 1 to 8
-    /// (`f32x8`) boxes (flat boxes, axis-parallel rays in box planes, empty
-    /// slots included).
+    /// box: 2¹⁹ random rays against random nodes of 1 to 4 (`f32x4`), 1 to 8
+    /// (`f32x8`) or 1 to 16 boxes (`f32x16`, tested in halves of `f32x8` as
+    /// single rays test it) (flat boxes, axis-parallel rays in box planes,
+    /// empty slots included).
     #[test]
     fn wide_box_test_agrees_with_scalar_slab_test_lane_by_lane() {
-        box_test_agrees::<wide::f32x4>();
-        box_test_agrees::<wide::f32x8>();
+        box_test_agrees::<wide::f32x4, wide::f32x4>();
+        box_test_agrees::<wide::f32x8, wide::f32x8>();
+        box_test_agrees::<wide::f32x16, wide::f32x8>();
     }
 
-    fn box_test_agrees<F: SimdFloat>() {
+    fn box_test_agrees<F: SimdFloat, N: SimdFloat>() {
         let mut rng = Rng::new(5);
         let mut hits = 0;
         let n = 1 << 19;
@@ -314,7 +343,7 @@ mod tests {
             };
             let ray = Ray::new(origin, dir, rng.range(0.0, 0.5), t_max);
             let slab = SlabRay::new(&ray);
-            let (bits, t) = node.entry::<F>(&slab, t_max);
+            let (bits, t) = node.entry::<N>(&slab, t_max);
             for (i, t_lane) in t.as_ref().iter().enumerate().take(slots) {
                 let b = node.child_bounds(i);
                 let scalar = slab.entry(b.min, b.max, t_max);
@@ -329,18 +358,19 @@ mod tests {
         assert!(hits > n / 4, "{hits} hits: too few for a meaningful test");
     }
 
-    /// The most stack entries a single-ray traversal of `bvh` can hold: over
-    /// every path, the pending children of the nodes above plus the node's own.
-    fn stack_need(bvh: &Bvh, at: usize, pending: usize) -> usize {
-        let node = &bvh.wide[at];
-        let children: Vec<ChildRef> = (0..WIDTH)
+    /// The most stack entries a single-ray traversal of `bvh`'s tree of
+    /// width `F` can hold: over every path, the pending children of the
+    /// nodes above plus the node's own.
+    fn stack_need<F: TreeWidth>(bvh: &Bvh, at: usize, pending: usize) -> usize {
+        let node = &F::nodes(bvh)[at];
+        let children: Vec<ChildRef> = (0..F::LANES)
             .map(|i| node.slot(i))
             .filter(|c| !c.is_empty())
             .collect();
         let below = children
             .iter()
             .filter(|c| !c.is_leaf())
-            .map(|c| stack_need(bvh, c.node(), pending + children.len() - 1));
+            .map(|c| stack_need::<F>(bvh, c.node(), pending + children.len() - 1));
         below.fold(pending + children.len(), usize::max)
     }
 
@@ -359,15 +389,24 @@ mod tests {
             .collect();
         for prims in [random::random_mixed(20_000, 1), peeled] {
             let bvh = Bvh::new(&prims);
-            let need = stack_need(&bvh, 0, 0);
-            assert!(need < WIDE_STACK_SLOTS, "needs {need} entries");
+            for need in [
+                stack_need::<RayTreeLanes>(&bvh, 0, 0),
+                stack_need::<PacketTreeLanes>(&bvh, 0, 0),
+            ] {
+                assert!(need < WIDE_STACK_SLOTS, "needs {need} entries");
+            }
         }
     }
 
-    /// The wide tree covers every bounded primitive exactly once, in leaves
+    /// Both wide trees cover every bounded primitive exactly once, in leaves
     /// of primitive records and of triangle blocks alike.
     #[test]
     fn collapse_keeps_every_leaf_once() {
+        covers_every_leaf_once::<RayTreeLanes>();
+        covers_every_leaf_once::<PacketTreeLanes>();
+    }
+
+    fn covers_every_leaf_once<F: TreeWidth>() {
         for prims in [
             random::random_mixed(3000, 1),
             random::bumpy_sphere(3000, 1),
@@ -378,8 +417,8 @@ mod tests {
             let mut covered = vec![0u32; prims.len()];
             let mut stack = vec![0usize];
             while let Some(i) = stack.pop() {
-                let node = &bvh.wide[i];
-                for c in 0..WIDTH {
+                let node = &F::nodes(&bvh)[i];
+                for c in 0..F::LANES {
                     let slot = node.slot(c);
                     if slot.is_empty() {
                         continue;
