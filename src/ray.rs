@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 
+use crate::geometry::BlockIntersect;
 use crate::simd::SimdFloat;
 
 /// Primitive index of a hit record that has hit nothing.
@@ -102,16 +103,17 @@ impl Hit {
 
     /// Settle the lanes of a block kernel: of the lanes set in `candidates`
     /// (hits within `[t_min, self.t]`), record each one [`Hit::accepts`], in
-    /// lane order, with its `t`, `u`, `v` and `ids` entry; true if any was recorded.
-    /// The result is the nearest by the tie rule, whatever the lane order.
+    /// lane order, with its `t`, `u`, `v` and `block`'s primitive index; true if
+    /// any was recorded. The result is the nearest by the tie rule, whatever the
+    /// lane order.
     #[inline(always)]
-    pub fn record_nearest_lane<F: SimdFloat>(
+    pub fn record_nearest_lane<F: SimdFloat, B: BlockIntersect>(
         &mut self,
         candidates: u32,
         t: F,
         u: F,
         v: F,
-        ids: &[u32],
+        block: &B,
         t_min: f32,
     ) -> bool {
         if candidates == 0 {
@@ -122,7 +124,7 @@ impl Hit {
         while lanes != 0 {
             let i = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
-            let (t, id) = (t.as_ref()[i], ids[i]);
+            let (t, id) = (t.as_ref()[i], block.id(i));
             if self.accepts(t, t_min, id) {
                 self.record(t, id, u.as_ref()[i], v.as_ref()[i]);
                 recorded = true;

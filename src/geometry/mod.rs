@@ -107,14 +107,8 @@ pub trait BlockIntersect {
         self.intersect_with::<Self::Lanes>(ray, hit)
     }
 
-    /// Primitive indices of the lanes.
-    fn ids(&self) -> &[u32];
-
     /// Primitive index of lane `i`'s shape.
-    #[inline(always)]
-    fn id(&self, i: usize) -> u32 {
-        self.ids()[i]
-    }
+    fn id(&self, i: usize) -> u32;
 }
 
 /// The packet kernel of one lane of a block, which every block spells alike:
@@ -161,11 +155,13 @@ impl<'a, T> ShapeLanes<'a, T> {
         row
     }
 
-    /// The primitive indices (0 in the lanes past the shapes).
-    fn ids<F: SimdFloat>(&self) -> <F::U32 as SimdU32>::Array {
+    /// The row of `field` of each shape and its primitive index, with
+    /// `unused` in the lanes past the shapes.
+    fn ids<F: SimdFloat>(&self, field: impl Fn(&T, u32) -> u32, unused: u32) -> <F::U32 as SimdU32>::Array {
         let mut ids = <F::U32 as SimdU32>::Array::default();
-        for (lane, (_, id)) in ids.as_mut().iter_mut().zip(self.0) {
-            *lane = *id;
+        ids.as_mut().fill(unused);
+        for (lane, (shape, id)) in ids.as_mut().iter_mut().zip(self.0) {
+            *lane = field(shape, *id);
         }
         ids
     }

@@ -182,7 +182,7 @@ impl<F: SimdFloat> Spheres<F> {
             center: [0, 1, 2].map(|k| lanes.row::<F>(|s| s.center[k], 0.0)),
             radius_squared: lanes.row::<F>(|s| s.radius_squared(0), f32::NEG_INFINITY),
             inside_only: lanes.row::<F>(|s| f32::from(u8::from(s.inside_only)), 0.0),
-            ids: lanes.ids::<F>(),
+            ids: lanes.ids::<F>(|_, id| id, 0),
         }
     }
 }
@@ -191,8 +191,8 @@ impl<F: SimdFloat> BlockIntersect for Spheres<F> {
     type Lanes = F;
 
     #[inline(always)]
-    fn ids(&self) -> &[u32] {
-        self.ids.as_ref()
+    fn id(&self, i: usize) -> u32 {
+        self.ids.as_ref()[i]
     }
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
@@ -224,7 +224,7 @@ impl<F: SimdFloat> BlockIntersect for Spheres<F> {
         // Lanes hit within [t_min, hit.t]; the record's own rule settles among them.
         let candidates = crosses & t.ge(t_min) & t.le(N::splat(hit.t));
         let zero = N::splat(0.0);
-        hit.record_nearest_lane(candidates.bitmask(), t, zero, zero, self.ids(), ray.t_min)
+        hit.record_nearest_lane(candidates.bitmask(), t, zero, zero, self, ray.t_min)
     }
 }
 

@@ -335,18 +335,28 @@ fn intersect_packet_lane<F: SimdFloat, T: TriangleConstants>(
 /// reports, so one ray tests them all in one SIMD pass with no branch per
 /// triangle (the layout of Embree's `Triangle4` leaves, Wald et al., "Embree: a
 /// kernel framework for efficient CPU ray tracing", SIGGRAPH 2014). A BVH leaf
-/// of triangles stores them this way. With `f32x4`: 11 × 16 = 176 bytes,
-/// padded to 192 so that a block spans exactly three cache lines.
+/// of triangles stores them this way. Each lane's dropped axis `k` rides in the
+/// top two bits of its primitive index, so that with `f32x8` a block is 10 × 32
+/// = 320 bytes, five cache lines (a row of its own for `k` made it six: a
+/// sixth more memory for the rays to pull in at the bottom of a large tree).
+/// With `f32x4`: 10 × 16 = 160 bytes, padded to 192 (three cache lines).
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub struct ProjectedTriangles<F: SimdFloat> {
-    /// Dropped axis `k` of each lane as 0.0, 1.0 or 2.0; 3.0 for a degenerate or unused lane.
-    k: F::Array,
-    /// The other constants of [`ProjectedTriangle`], one row per [`Constant`], lane by lane.
+    /// The constants of [`ProjectedTriangle`] but `k`, one row per [`Constant`], lane by lane.
     constants: [F::Array; 9],
-    /// Primitive index each lane's hit reports.
-    ids: <F::U32 as SimdU32>::Array,
+    /// Each lane's primitive index (the low [`BLOCK_ID_BITS`] bits) and
+    /// dropped axis `k` (the two bits above; [`DEGENERATE`] for a degenerate
+    /// or unused lane).
+    tagged_ids: <F::U32 as SimdU32>::Array,
 }
+
+/// Bits of a [`ProjectedTriangles`] lane's primitive index: blocks hold
+/// triangles whose input index is at most [`MAX_BLOCK_ID`].
+const BLOCK_ID_BITS: u32 = 30;
+
+/// The largest primitive index a [`ProjectedTriangles`] lane holds (2³⁰ − 1).
+pub const MAX_BLOCK_ID: u32 = (1 << BLOCK_ID_BITS) - 1;
 
 impl<F: SimdFloat> ProjectedTriangles<F> {
     block_lanes!();
@@ -360,13 +370,19 @@ impl<F: SimdFloat> ProjectedTriangles<F> {
     /// Lanes `0..tris.len()` hold `tris` (constants and primitive index), the rest nothing.
     ///
     /// # Panics
-    /// If `tris` has more than `F::LANES` entries.
+    /// If `tris` has more than `F::LANES` entries, or an index above [`MAX_BLOCK_ID`].
     pub fn new(tris: &[(ProjectedTriangle, u32)]) -> Self {
         let lanes = ShapeLanes::new::<F>(tris);
+        let tag = |t: &ProjectedTriangle, id: u32| {
+            assert!(
+                id <= MAX_BLOCK_ID,
+                "primitive index {id} does not fit a triangle block"
+            );
+            id | t.k << BLOCK_ID_BITS
+        };
         Self {
-            k: lanes.row::<F>(|t| t.k as f32, DEGENERATE as f32),
             constants: Constant::ALL.map(|c| lanes.row::<F>(|t| t.constant(0, c), 0.0)),
-            ids: lanes.ids::<F>(),
+            tagged_ids: lanes.ids::<F>(tag, DEGENERATE << BLOCK_ID_BITS),
         }
     }
 }
@@ -375,8 +391,8 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
     type Lanes = F;
 
     #[inline(always)]
-    fn ids(&self) -> &[u32] {
-        self.ids.as_ref()
+    fn id(&self, i: usize) -> u32 {
+        self.tagged_ids.as_ref()[i] & MAX_BLOCK_ID
     }
 
     /// One ray against every lane (the scalar kernel's arithmetic, lane by
@@ -387,7 +403,9 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
     fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &Ray, hit: &mut Hit) -> bool {
         // (No closures or array maps here: this is compiled into each
         // instruction set's entry point only if everything inlines.)
-        let k = N::from_array(self.k);
+        let mut tagged_ids = <N::U32 as SimdU32>::Array::default();
+        tagged_ids.as_mut().copy_from_slice(self.tagged_ids.as_ref());
+        let tagged_ids = N::U32::from_array(tagged_ids);
         let (n_u, n_v, n_d): (N, N, N) = (
             self.row(Constant::Nu),
             self.row(Constant::Nv),
@@ -397,7 +415,9 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
         let (b_nu, b_nv): (N, N) = (self.row(Constant::BNu), self.row(Constant::BNv));
         let (c_nu, c_nv): (N, N) = (self.row(Constant::CNu), self.row(Constant::CNv));
         // Each lane's ray components along its own axes k, ku, kv.
-        let (on_x, on_y) = (k.eq(N::splat(0.0)), k.eq(N::splat(1.0)));
+        // k = 0 and k ≤ 1, read off the tag bits by unsigned comparisons.
+        let on_x = tagged_ids.lt(N::U32::splat(1 << BLOCK_ID_BITS));
+        let on_y = tagged_ids.lt(N::U32::splat(2 << BLOCK_ID_BITS));
         let (o_k, o_ku, o_kv) = per_lane_axes(ray.origin, on_x, on_y);
         let (d_k, d_ku, d_kv) = per_lane_axes(ray.dir, on_x, on_y);
         let denom = d_k + n_u * d_ku + n_v * d_kv;
@@ -409,21 +429,21 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
         let low = N::splat(-EDGE_EPSILON);
         // Lanes hit within [t_min, hit.t]; the record's own rule (ties, t < ∞)
         // settles among them.
-        let candidates = k.lt(N::splat(DEGENERATE as f32))
+        let candidates = tagged_ids.lt(N::U32::splat(DEGENERATE << BLOCK_ID_BITS))
             & usable_denominators(denom)
             & t.ge(N::splat(ray.t_min))
             & t.le(N::splat(hit.t))
             & beta.ge(low)
             & gamma.ge(low)
             & (beta + gamma).le(N::splat(1.0 + EDGE_EPSILON));
-        hit.record_nearest_lane(candidates.bitmask(), t, beta, gamma, self.ids(), ray.t_min)
+        hit.record_nearest_lane(candidates.bitmask(), t, beta, gamma, self, ray.t_min)
     }
 }
 
 impl<F: SimdFloat> TriangleConstants for ProjectedTriangles<F> {
     #[inline(always)]
     fn axis(&self, i: usize) -> u32 {
-        self.k.as_ref()[i] as u32
+        self.tagged_ids.as_ref()[i] >> BLOCK_ID_BITS
     }
 
     #[inline(always)]
@@ -433,7 +453,8 @@ impl<F: SimdFloat> TriangleConstants for ProjectedTriangles<F> {
 }
 
 /// Per lane, the components of `v` along the lane's own axes k, ku, kv, where
-/// `on_x` and `on_y` mark the lanes whose dropped axis k is x or y.
+/// `on_x` marks the lanes whose dropped axis k is x and `on_y`, read only in
+/// the other lanes, those where it is y.
 #[inline(always)]
 fn per_lane_axes<N: SimdFloat>(v: Vec3, on_x: N, on_y: N) -> (N, N, N) {
     let (x, y, z) = (N::splat(v.x), N::splat(v.y), N::splat(v.z));

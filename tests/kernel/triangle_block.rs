@@ -11,7 +11,7 @@ use crate::support::kernel::block::{
 };
 use crate::support::kernel::poisoned_rays;
 use glam::Vec3;
-use raypack::geometry::triangle::{ProjectedTriangle, ProjectedTriangles};
+use raypack::geometry::triangle::{MAX_BLOCK_ID, ProjectedTriangle, ProjectedTriangles};
 use raypack::geometry::{BlockIntersect, Intersect, Triangle};
 use raypack::packet::{HitPacket, RayPacket};
 use raypack::ray::{Hit, Ray};
@@ -121,6 +121,34 @@ fn shared_edges_and_vertices_are_hit() {
     // On the diagonal both triangles are hit at t = 2: the lower index reports.
     let r = ray([0.5, 0.5, 0.0], [0.0, 0.0, 1.0]);
     assert_eq!(both(&quad, &r, Hit::none(&r)).prim, 4);
+}
+
+/// A lane's dropped axis rides in the top bits of its primitive index: each
+/// axis, next to the largest index a block holds, still tests on its own axis
+/// and reports its own index (through the block and its lanes' packet kernel).
+#[test]
+fn every_dropped_axis_keeps_the_largest_indices_intact() {
+    // Unit triangles facing x, y and z at distance 2, and rays along each axis.
+    let facing = [
+        tri([2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [2.0, 0.0, 1.0]),
+        tri([0.0, 2.0, 0.0], [0.0, 2.0, 1.0], [1.0, 2.0, 0.0]),
+        tri([0.0, 0.0, 2.0], [1.0, 0.0, 2.0], [0.0, 1.0, 2.0]),
+    ];
+    let ids = [MAX_BLOCK_ID, MAX_BLOCK_ID - 1, 1 << 29];
+    let tris: Vec<_> = facing.into_iter().zip(ids).collect();
+    for (axis, id) in ids.into_iter().enumerate() {
+        let (mut origin, mut dir) = ([0.25; 3], [0.0; 3]);
+        (origin[axis], dir[axis]) = (0.0, 1.0);
+        let r = ray(origin, dir);
+        let hit = both(&tris, &r, Hit::none(&r));
+        assert_eq!((hit.t, hit.prim), (2.0, id), "axis {axis}");
+        let rays = RayPacket::<f32x8>::from_rays(&[r]);
+        let mut hits = HitPacket::none(&rays);
+        for lane in 0..tris.len() {
+            ProjectedTriangles::<f32x4>::new(&tris).intersect_packet(lane, &rays, &mut hits);
+        }
+        assert_eq!(hits.hit(0).prim, id, "axis {axis}");
+    }
 }
 
 #[test]

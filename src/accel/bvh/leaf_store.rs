@@ -14,6 +14,7 @@ use crate::accel::bvh::leaf::{
 use crate::accel::bvh::node::Node;
 use crate::accel::stats::Counter;
 use crate::geometry::Primitive;
+use crate::geometry::triangle::MAX_BLOCK_ID;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
@@ -43,15 +44,16 @@ enum Holds {
 }
 
 impl Holds {
-    /// What the leaf of `prims` (not empty) holds.
-    fn of<'a>(mut prims: impl Iterator<Item = &'a Primitive>) -> Self {
+    /// What the leaf of `prims` (not empty, each with its input index) holds:
+    /// triangles go into blocks only if their indices fit one ([`MAX_BLOCK_ID`]).
+    fn of<'a>(mut prims: impl Iterator<Item = (&'a Primitive, u32)>) -> Self {
         let first = match prims.next() {
-            Some(Primitive::Triangle(_)) => Holds::Triangles,
-            Some(Primitive::Sphere(_)) => Holds::Spheres,
+            Some((Primitive::Triangle(_), id)) if id <= MAX_BLOCK_ID => Holds::Triangles,
+            Some((Primitive::Sphere(_), _)) => Holds::Spheres,
             _ => return Holds::Mixed,
         };
-        let same = |p: &Primitive| match first {
-            Holds::Triangles => matches!(p, Primitive::Triangle(_)),
+        let same = |(p, id): (&Primitive, u32)| match first {
+            Holds::Triangles => matches!(p, Primitive::Triangle(_)) && id <= MAX_BLOCK_ID,
             _ => matches!(p, Primitive::Sphere(_)),
         };
         if prims.all(same) { first } else { Holds::Mixed }
@@ -76,7 +78,7 @@ impl LeafStore {
         // order, far from their input order, so this mostly waits on memory.
         let holds: Vec<Holds> = leaves
             .par_iter()
-            .map(|node| Holds::of(order[range_of(node)].iter().map(|&k| input(k).0)))
+            .map(|node| Holds::of(order[range_of(node)].iter().map(|&k| input(k))))
             .collect();
         // Lay the blocks out leaf by leaf, each block a run of leaf primitives.
         let mut store = Self::default();
@@ -297,5 +299,26 @@ impl<'a> Iterator for LeafItems<'a> {
                 ))
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Sphere, Triangle};
+    use glam::Vec3;
+
+    /// Triangles go into blocks only while their indices fit a block's lanes
+    /// (the top bits carry each lane's axis); past that their leaf holds records.
+    #[test]
+    fn triangle_indices_past_a_block_lane_go_to_records() {
+        let tri = Primitive::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
+        let ball = Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0));
+        let holds = |prims: &[(&Primitive, u32)]| Holds::of(prims.iter().copied());
+        assert_eq!(holds(&[(&tri, 0), (&tri, MAX_BLOCK_ID)]), Holds::Triangles);
+        assert_eq!(holds(&[(&tri, MAX_BLOCK_ID + 1)]), Holds::Mixed);
+        assert_eq!(holds(&[(&tri, 0), (&tri, u32::MAX)]), Holds::Mixed);
+        assert_eq!(holds(&[(&ball, u32::MAX), (&ball, 0)]), Holds::Spheres);
+        assert_eq!(holds(&[(&tri, 0), (&ball, 1)]), Holds::Mixed);
     }
 }
