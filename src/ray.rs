@@ -2,7 +2,6 @@
 
 use glam::Vec3;
 
-use crate::geometry::BlockIntersect;
 use crate::simd::SimdFloat;
 
 /// Primitive index of a hit record that has hit nothing.
@@ -103,17 +102,18 @@ impl Hit {
 
     /// Settle the lanes of a block kernel: of the lanes set in `candidates`
     /// (hits within `[t_min, self.t]`), record each one [`Hit::accepts`], in
-    /// lane order, with its `t`, `u`, `v` and `block`'s primitive index; true if
-    /// any was recorded. The result is the nearest by the tie rule, whatever the
-    /// lane order.
+    /// lane order, with its `t`, `u`, `v` and primitive index (its `ids` entry
+    /// masked by `id_mask`); true if any was recorded. The result is the
+    /// nearest by the tie rule, whatever the lane order.
     #[inline(always)]
-    pub fn record_nearest_lane<F: SimdFloat, B: BlockIntersect>(
+    pub fn record_nearest_lane<F: SimdFloat>(
         &mut self,
         candidates: u32,
         t: F,
         u: F,
         v: F,
-        block: &B,
+        ids: &[u32],
+        id_mask: u32,
         t_min: f32,
     ) -> bool {
         if candidates == 0 {
@@ -124,7 +124,7 @@ impl Hit {
         while lanes != 0 {
             let i = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
-            let (t, id) = (t.as_ref()[i], block.id(i));
+            let (t, id) = (t.as_ref()[i], ids[i] & id_mask);
             if self.accepts(t, t_min, id) {
                 self.record(t, id, u.as_ref()[i], v.as_ref()[i]);
                 recorded = true;
