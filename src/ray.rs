@@ -102,8 +102,8 @@ impl Hit {
 
     /// Settle the lanes of a block kernel: of the lanes set in `candidates`
     /// (hits within `[t_min, self.t]`), record each one [`Hit::accepts`], in
-    /// lane order, with its `t`, `u`, `v` and primitive index (its `ids` entry
-    /// masked by `id_mask`); true if any was recorded. The result is the
+    /// lane order, with its `t`, `u`, `v` and primitive index (`lane_id` of
+    /// its lane); true if any was recorded. The result is the
     /// nearest by the tie rule, whatever the lane order.
     #[inline(always)]
     pub fn record_nearest_lane<F: SimdFloat>(
@@ -112,8 +112,7 @@ impl Hit {
         t: F,
         u: F,
         v: F,
-        ids: &[u32],
-        id_mask: u32,
+        lane_id: impl Fn(usize) -> u32,
         t_min: f32,
     ) -> bool {
         if candidates == 0 {
@@ -124,7 +123,7 @@ impl Hit {
         while lanes != 0 {
             let i = lanes.trailing_zeros() as usize;
             lanes &= lanes - 1;
-            let (t, id) = (t.as_ref()[i], ids[i] & id_mask);
+            let (t, id) = (t.as_ref()[i], lane_id(i));
             if self.accepts(t, t_min, id) {
                 self.record(t, id, u.as_ref()[i], v.as_ref()[i]);
                 recorded = true;

@@ -224,15 +224,7 @@ impl<F: SimdFloat> BlockIntersect for Spheres<F> {
         // Lanes hit within [t_min, hit.t]; the record's own rule settles among them.
         let candidates = crosses & t.ge(t_min) & t.le(N::splat(hit.t));
         let zero = N::splat(0.0);
-        hit.record_nearest_lane(
-            candidates.bitmask(),
-            t,
-            zero,
-            zero,
-            self.ids.as_ref(),
-            u32::MAX,
-            ray.t_min,
-        )
+        hit.record_nearest_lane(candidates.bitmask(), t, zero, zero, |i| self.id(i), ray.t_min)
     }
 }
 

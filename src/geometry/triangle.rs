@@ -436,15 +436,7 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
             & beta.ge(low)
             & gamma.ge(low)
             & (beta + gamma).le(N::splat(1.0 + EDGE_EPSILON));
-        hit.record_nearest_lane(
-            candidates.bitmask(),
-            t,
-            beta,
-            gamma,
-            self.tagged_ids.as_ref(),
-            MAX_BLOCK_ID,
-            ray.t_min,
-        )
+        hit.record_nearest_lane(candidates.bitmask(), t, beta, gamma, |i| self.id(i), ray.t_min)
     }
 }
 
