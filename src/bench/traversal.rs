@@ -7,9 +7,10 @@
 //! build gets the same thread count as raypack's).
 //!
 //! Rays are made before timing ([`RaySource`]), so only traversal is measured.
-//! Threads take whole tiles of 256 rays (rayon). Scenes, engines, kinds and
-//! variants are interleaved round by round and every round is kept, so a
-//! drift of a shared machine's speed hits every scene alike: each figure is a
+//! Threads take whole tiles of 256 rays (rayon). Thread counts, scenes,
+//! engines, kinds and variants are interleaved round by round, backwards in
+//! odd rounds, and every round is kept, so a drift of a shared machine's speed
+//! hits every scene alike and nothing is always measured first: each figure is a
 //! median with its interval, and the ratios (packets over single rays, one
 //! scene's time per ray over the first's, raypack over Embree) are taken
 //! round by round ([`Summary::paired_ratio`]).
@@ -229,11 +230,30 @@ impl Structure {
     }
 }
 
+/// `engines` as measured, in the order given, Embree once per setting of
+/// `embree_isas`.
+fn engine_variants(engines: &[Engine], embree_isas: &[EmbreeIsa]) -> anyhow::Result<Vec<EngineVariant>> {
+    anyhow::ensure!(!engines.is_empty(), "no engine to measure");
+    let mut variants: Vec<EngineVariant> = Vec::new();
+    for &engine in engines {
+        let isas = match engine {
+            Engine::Raypack => vec![None],
+            Engine::Embree => embree_isas.iter().copied().map(Some).collect(),
+        };
+        for embree_isa in isas {
+            let variant = EngineVariant { engine, embree_isa };
+            if !variants.contains(&variant) {
+                variants.push(variant);
+            }
+        }
+    }
+    anyhow::ensure!(!variants.is_empty(), "no Embree ISA setting to measure");
+    Ok(variants)
+}
+
 /// Builds each engine's structure with `threads` threads; holds Embree's
 /// devices (one per ISA setting) when Embree is measured.
 pub struct Builder {
-    variants: Vec<EngineVariant>,
-    threads: usize,
     #[cfg(feature = "embree")]
     devices: Vec<(EmbreeIsa, std::sync::Arc<crate::embree::Device>)>,
 }
@@ -248,24 +268,10 @@ impl Builder {
     /// Embree's thread limit is the task scheduler's, shared by every device
     /// of the process: drop one builder before making the next.
     pub fn new(engines: &[Engine], embree_isas: &[EmbreeIsa], threads: usize) -> anyhow::Result<Self> {
-        anyhow::ensure!(!engines.is_empty(), "no engine to measure");
-        let mut variants: Vec<EngineVariant> = Vec::new();
-        for &engine in engines {
-            let isas = match engine {
-                Engine::Raypack => vec![None],
-                Engine::Embree => embree_isas.iter().copied().map(Some).collect(),
-            };
-            for embree_isa in isas {
-                let variant = EngineVariant { engine, embree_isa };
-                if !variants.contains(&variant) {
-                    variants.push(variant);
-                }
-            }
-        }
-        anyhow::ensure!(!variants.is_empty(), "no Embree ISA setting to measure");
-        let threads = threads.max(1);
+        let variants = engine_variants(engines, embree_isas)?;
         #[cfg(feature = "embree")]
         {
+            let threads = threads.max(1);
             let devices = variants
                 .iter()
                 .filter_map(|v| v.embree_isa)
@@ -274,28 +280,15 @@ impl Builder {
                     Ok((isa, std::sync::Arc::new(device)))
                 })
                 .collect::<anyhow::Result<_>>()?;
-            Ok(Self {
-                variants,
-                threads,
-                devices,
-            })
+            Ok(Self { devices })
         }
         #[cfg(not(feature = "embree"))]
         {
+            let _ = threads;
             let embree = variants.iter().any(|v| v.engine == Engine::Embree);
             anyhow::ensure!(!embree, crate::engine::EMBREE_MISSING);
-            Ok(Self { variants, threads })
+            Ok(Self {})
         }
-    }
-
-    /// The engines measured, in the order given (Embree once per ISA setting).
-    pub fn variants(&self) -> &[EngineVariant] {
-        &self.variants
-    }
-
-    /// Threads of the builds, and of the pool that [`measure`] traces on.
-    pub fn threads(&self) -> usize {
-        self.threads
     }
 
     /// Build `variant`'s structure over `prims`.
@@ -447,33 +440,40 @@ impl KindRow {
     }
 }
 
-/// A scene and an engine measured on it.
+/// A scene and an engine measured on it: the structure traced and the rays it hit.
 struct Case<'a> {
     setup: &'a TraversalSetup,
     variant: EngineVariant,
     structure: Structure,
-    /// Build times, ms.
-    build: Summary,
-    /// Per ray set: each round's seconds per ray of single rays and packets.
-    per_ray: Vec<[Vec<f64>; 2]>,
     /// Per ray set: rays hit by single rays.
     hits: Vec<u64>,
 }
 
-/// Measure every engine of `builder` on `setups` on a rayon pool of the
-/// builder's threads:
-/// each build time (best of 3), then single rays and packets of every ray set
-/// of every scene and engine, interleaved scene by scene, engine by engine and
-/// variant by variant, `rounds` rounds after a warm-up round, times passed
-/// through the bench timing hook `slowdown`. With Embree
-/// among the engines every pool thread sets FTZ/DAZ, so both engines run in that mode.
-pub fn measure(
-    setups: &[TraversalSetup],
-    builder: &Builder,
-    rounds: usize,
-    slowdown: &Slowdown,
-) -> anyhow::Result<Vec<TraversalRow>> {
-    let (variants, threads) = (builder.variants(), builder.threads());
+/// One thread count's figures of a [`Case`].
+#[derive(Clone, Default)]
+struct Timings {
+    /// Build times, ms.
+    build_ms: Vec<f64>,
+    /// Per ray set: each round's seconds per ray of single rays and packets.
+    per_ray: Vec<[Vec<f64>; 2]>,
+}
+
+/// Timed builds of every structure per thread count, after an untimed round.
+const BUILD_ROUNDS: usize = 3;
+
+/// `0..n` in round `round`'s order: forwards in even rounds, backwards in odd
+/// ones, so that nothing is measured first (or last) in every round.
+fn round_order(round: usize, n: usize) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    if round % 2 == 1 {
+        order.reverse();
+    }
+    order
+}
+
+/// A rayon pool of `threads` threads; with Embree among the engines every
+/// thread sets FTZ/DAZ, so both engines run in that mode.
+fn pool(threads: usize, variants: &[EngineVariant]) -> anyhow::Result<rayon::ThreadPool> {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads);
     #[cfg(feature = "embree")]
     let pool = if variants.iter().any(|v| v.engine == Engine::Embree) {
@@ -481,77 +481,159 @@ pub fn measure(
     } else {
         pool
     };
-    let pool = pool.build()?;
-    pool.install(|| {
-        // Build each structure three times, keeping every time and the last structure.
-        let mut cases = Vec::with_capacity(setups.len() * variants.len());
-        for setup in setups {
-            for &variant in variants {
-                let mut build = Vec::new();
-                let mut structure = builder.build(variant, &setup.prims)?;
-                for _ in 0..3 {
-                    let start = Instant::now();
-                    structure = builder.build(variant, &setup.prims)?;
-                    build.push(1e3 * start.elapsed().as_secs_f64());
-                }
-                cases.push(Case {
-                    setup,
-                    variant,
-                    structure,
-                    build: Summary::of(&build)?,
-                    per_ray: vec![Default::default(); setup.sets.len()],
-                    hits: vec![0; setup.sets.len()],
-                });
-            }
+    #[cfg(not(feature = "embree"))]
+    let _ = variants;
+    Ok(pool.build()?)
+}
+
+/// Measure `engines` (Embree at each of `embree_isas`) on `setups` at every
+/// thread count of `threads`, one rayon pool per count, with no order
+/// favouring any of them:
+///
+/// - builds: three rounds after an untimed one, each building every
+///   structure on every thread count (a fresh [`Builder`] per count, since
+///   Embree's thread limit is process-wide);
+/// - traversal: single rays and packets of every ray set of every scene and
+///   engine on every thread count, `rounds` rounds after a warm-up round, all
+///   on the structures of the last build.
+///
+/// Each round goes through thread counts, scenes, engines, kinds and
+/// variants, backwards in odd rounds; times pass through
+/// the bench timing hook `slowdown`. Rows come per thread count in the order
+/// given, then per scene and engine.
+pub fn measure(
+    setups: &[TraversalSetup],
+    engines: &[Engine],
+    embree_isas: &[EmbreeIsa],
+    threads: &[usize],
+    rounds: usize,
+    slowdown: &Slowdown,
+) -> anyhow::Result<Vec<TraversalRow>> {
+    let mut thread_counts: Vec<usize> = Vec::new();
+    for t in threads.iter().map(|&t| t.max(1)) {
+        if !thread_counts.contains(&t) {
+            thread_counts.push(t);
         }
-        // Round 0 warms every variant up (caches, page faults) and is not kept.
-        for round in 0..=rounds {
-            for case in &mut cases {
-                let (s, setup) = (&case.structure, case.setup);
-                for (k, set) in setup.sets.iter().enumerate() {
+    }
+    anyhow::ensure!(!thread_counts.is_empty(), "no thread count to measure");
+    let variants = engine_variants(engines, embree_isas)?;
+    let pools = thread_counts
+        .iter()
+        .map(|&t| pool(t, &variants))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let keys: Vec<(&TraversalSetup, EngineVariant)> = setups
+        .iter()
+        .flat_map(|setup| variants.iter().map(move |&v| (setup, v)))
+        .collect();
+    let empty = |setup: &TraversalSetup| Timings {
+        build_ms: Vec::new(),
+        per_ray: vec![Default::default(); setup.sets.len()],
+    };
+    // timings[t][c]: thread count t, case c.
+    let mut timings: Vec<Vec<Timings>> = thread_counts
+        .iter()
+        .map(|_| keys.iter().map(|(setup, _)| empty(setup)).collect())
+        .collect();
+
+    // Build every structure on every thread count, round by round; the
+    // structures of the very last builds are kept for tracing, every other
+    // one is dropped before the next builder exists (it holds its device).
+    let mut structures: Vec<Option<Structure>> = keys.iter().map(|_| None).collect();
+    for round in 0..=BUILD_ROUNDS {
+        let order = round_order(round, thread_counts.len());
+        for (step, &t) in order.iter().enumerate() {
+            let keep = round == BUILD_ROUNDS && step + 1 == order.len();
+            let builder = Builder::new(engines, embree_isas, thread_counts[t])?;
+            pools[t].install(|| -> anyhow::Result<()> {
+                for c in round_order(round, keys.len()) {
+                    let (setup, variant) = keys[c];
+                    let start = Instant::now();
+                    let structure = builder.build(variant, &setup.prims)?;
+                    let ms = 1e3 * start.elapsed().as_secs_f64();
+                    if round > 0 {
+                        timings[t][c].build_ms.push(ms);
+                    }
+                    if keep {
+                        structures[c] = Some(structure);
+                    }
+                }
+                Ok(())
+            })?;
+        }
+    }
+    let mut cases = keys
+        .iter()
+        .zip(structures)
+        .map(|(&(setup, variant), structure)| {
+            Ok(Case {
+                setup,
+                variant,
+                structure: structure.ok_or_else(|| anyhow::anyhow!("{} was not built", variant.name()))?,
+                hits: vec![0; setup.sets.len()],
+            })
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+
+    // Trace; round 0 warms every pool and structure up (caches, page faults)
+    // and is not kept.
+    let steps: Vec<(usize, usize)> = (0..thread_counts.len())
+        .flat_map(|t| (0..cases.len()).map(move |c| (t, c)))
+        .collect();
+    for round in 0..=rounds {
+        for step in round_order(round, steps.len()) {
+            let (t, c) = steps[step];
+            let case = &mut cases[c];
+            let timing = &mut timings[t][c];
+            pools[t].install(|| {
+                for (k, set) in case.setup.sets.iter().enumerate() {
                     for (v, variant) in ["single", "packet8"].into_iter().enumerate() {
                         let start = Instant::now();
-                        let hits = black_box(s.trace(set, v == 1));
+                        let hits = black_box(case.structure.trace(set, v == 1));
                         let seconds = slowdown.apply(variant, start.elapsed().as_secs_f64());
                         if round == 0 && v == 0 {
                             case.hits[k] = hits;
                         }
                         if round > 0 {
-                            case.per_ray[k][v].push(seconds / set.rays.len().max(1) as f64);
+                            timing.per_ray[k][v].push(seconds / set.rays.len().max(1) as f64);
                         }
                     }
                 }
-            }
+            });
         }
-        cases
-            .iter()
-            .map(|case| {
-                // The first case of the engine: the case itself at the latest.
-                let first = cases.iter().find(|c| c.variant == case.variant).unwrap_or(case);
-                // Embree on the same rays: its first ISA setting measured.
-                let embree = cases.iter().find(|c| {
-                    case.variant.engine == Engine::Raypack
-                        && c.variant.engine == Engine::Embree
-                        && std::ptr::eq(c.setup, case.setup)
-                });
-                row(
-                    case,
-                    &first.per_ray,
-                    embree.map(|c| &c.per_ray[..]),
-                    threads,
-                    rounds,
-                )
-            })
-            .collect()
-    })
+    }
+
+    let mut rows = Vec::with_capacity(timings.len() * cases.len());
+    for (t, of_threads) in timings.iter().enumerate() {
+        for (case, timing) in cases.iter().zip(of_threads) {
+            // The first case of the engine: the case itself at the latest.
+            let first = cases.iter().position(|c| c.variant == case.variant).unwrap_or(0);
+            // Embree on the same rays: its first ISA setting measured.
+            let embree = cases.iter().position(|c| {
+                case.variant.engine == Engine::Raypack
+                    && c.variant.engine == Engine::Embree
+                    && std::ptr::eq(c.setup, case.setup)
+            });
+            rows.push(row(
+                case,
+                timing,
+                &of_threads[first].per_ray,
+                embree.map(|e| &of_threads[e].per_ray[..]),
+                thread_counts[t],
+                rounds,
+            )?);
+        }
+    }
+    Ok(rows)
 }
 
 /// The table row of `case`: its times as Mrays/s, the ratios, the growth of
-/// time per ray from `first_per_ray` (the engine's first scene), the speed
+/// time per ray from `first_per_ray` (the engine's first scene, `timing`
+/// being the case's own figures at the row's thread count), the speed
 /// over Embree's on the same rays (`embree_per_ray`, when measured), and for
 /// raypack the SAH cost and the traversal counts of one more (untimed) pass of each variant.
 fn row(
     case: &Case<'_>,
+    timing: &Timings,
     first_per_ray: &[[Vec<f64>; 2]],
     embree_per_ray: Option<&[[Vec<f64>; 2]]>,
     threads: usize,
@@ -564,9 +646,9 @@ fn row(
         .iter()
         .enumerate()
         .map(|(k, set)| -> anyhow::Result<KindRow> {
-            let [single, packet] = &case.per_ray[k];
+            let [single, packet] = &timing.per_ray[k];
             // Per kind, the first scene's sets are the same kinds in the same order.
-            let first = first_per_ray.get(k).unwrap_or(&case.per_ray[k]);
+            let first = first_per_ray.get(k).unwrap_or(&timing.per_ray[k]);
             let stats = match &case.structure {
                 Structure::Raypack(bvh) => {
                     let [single, packet] = counted(bvh, set);
@@ -610,7 +692,7 @@ fn row(
         engine: case.variant.engine,
         embree_isa: case.variant.embree_isa,
         threads,
-        build_ms: case.build,
+        build_ms: Summary::of(&timing.build_ms)?,
         sah_cost,
         resolution: setup.resolution,
         kinds,
@@ -639,6 +721,44 @@ fn counted(bvh: &Bvh, set: &RaySet) -> [TraversalStats; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn odd_rounds_go_backwards() {
+        assert_eq!(round_order(0, 3), [0, 1, 2]);
+        assert_eq!(round_order(1, 3), [2, 1, 0]);
+        assert_eq!(round_order(2, 3), [0, 1, 2]);
+        assert!(round_order(1, 0).is_empty());
+    }
+
+    #[test]
+    fn every_thread_count_gets_a_row_per_scene_with_every_round_kept() {
+        let kinds = [RayKind::Primary, RayKind::Ao];
+        let setups = [
+            TraversalSetup::generated("mesh", 100, (16, 16), 32, &kinds).expect("known kind"),
+            TraversalSetup::generated("mesh", 300, (16, 16), 32, &kinds).expect("known kind"),
+        ];
+        let slowdown = Slowdown::default();
+        let rows = measure(&setups, &[Engine::Raypack], &[], &[2, 1, 2], 3, &slowdown).unwrap();
+        // A thread count given twice is measured once, in the order given.
+        let layout: Vec<_> = rows.iter().map(|r| (r.threads, r.primitives)).collect();
+        let [small, large] = setups.each_ref().map(|s| s.prims.len());
+        assert!(small < large);
+        assert_eq!(layout, [(2, small), (2, large), (1, small), (1, large)]);
+        for row in &rows {
+            assert_eq!(row.build_ms.samples, BUILD_ROUNDS, "{}", row.scene);
+            for k in &row.kinds {
+                assert_eq!(k.single_mrays.samples, 3);
+                assert_eq!(k.packet_mrays.samples, 3);
+            }
+        }
+        // The same structures and rays at either thread count: the same hits.
+        for (two, one) in rows[..2].iter().zip(&rows[2..]) {
+            let hits = |r: &TraversalRow| r.kinds.iter().map(|k| k.hits).collect::<Vec<_>>();
+            assert_eq!(hits(two), hits(one));
+            assert!(hits(one)[0] > 0, "the camera sees the mesh");
+        }
+        assert!(measure(&setups, &[Engine::Raypack], &[], &[], 1, &slowdown).is_err());
+    }
 
     #[test]
     fn single_rays_and_packets_agree_with_brute_force_on_every_kind() {

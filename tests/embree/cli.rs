@@ -305,8 +305,9 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
         "{g} vs {embree_from_rates}"
     );
 
-    // Two thread counts: Embree gets a device of each in turn (its thread
-    // limit is process-wide), and builds are compared at the same count.
+    // Two thread counts, interleaved round by round: Embree gets a fresh
+    // device of each count for each build round (its thread limit is
+    // process-wide), and builds are compared at the same count.
     let o = raypack().args(&args).args(["--threads", "1,2"]).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8(o.stdout).unwrap();

@@ -62,10 +62,10 @@ pub struct TraversalArgs {
 /// Measure and report.
 pub fn run(args: TraversalArgs) -> CliResult {
     let run = Run::start(&args.output, "traversal")?;
-    // Ask for the engines before generating scenes: Embree may be missing.
+    // Ask for the engines before generating scenes: Embree may be missing
+    // (the devices go at the end of the statement: `measure` makes its own).
     let first_threads = args.threads.first().copied().unwrap_or(1);
-    let mut builder =
-        Builder::new(&args.engine, &args.embree_isa, first_threads).map_err(CliError::BadInput)?;
+    Builder::new(&args.engine, &args.embree_isa, first_threads).map_err(CliError::BadInput)?;
 
     let (width, height) = args.size;
     let setups: Vec<TraversalSetup> = match &args.scene {
@@ -97,20 +97,16 @@ pub fn run(args: TraversalArgs) -> CliResult {
             })
             .collect(),
     };
-    let mut rows = Vec::new();
-    for &threads in &args.threads {
-        if builder.threads() != threads.max(1) {
-            // Embree's device takes the thread count, and its thread limit is
-            // process-wide: the old device goes before the new one is made.
-            drop(builder);
-            builder = Builder::new(&args.engine, &args.embree_isa, threads).map_err(CliError::Failed)?;
-        }
-        let measured =
-            measure(&setups, &builder, args.rounds.max(1), &run.slowdown).map_err(CliError::Failed)?;
-        rows.extend(measured);
-    }
-    // The environment's Embree device comes after the last measuring one.
-    drop(builder);
+    // The environment's Embree device (in `finish`) comes after the measuring ones.
+    let rows = measure(
+        &setups,
+        &args.engine,
+        &args.embree_isa,
+        &args.threads,
+        args.rounds.max(1),
+        &run.slowdown,
+    )
+    .map_err(CliError::Failed)?;
     let figures = rows.iter().flat_map(TraversalRow::figures).collect();
     let embree = args
         .engine
@@ -118,18 +114,21 @@ pub fn run(args: TraversalArgs) -> CliResult {
         .then(|| args.embree_isa.first().map(|isa| isa.config(first_threads)))
         .flatten();
     run.finish(rows, figures, embree.as_deref(), |rows| {
-        for &threads in &args.threads {
-            let of_threads: Vec<TraversalRow> = rows
-                .iter()
-                .filter(|r| r.threads == threads.max(1))
-                .cloned()
-                .collect();
+        let mut printed = Vec::new();
+        for threads in args.threads.iter().map(|&t| t.max(1)) {
+            if printed.contains(&threads) {
+                continue;
+            }
+            printed.push(threads);
+            let of_threads: Vec<TraversalRow> =
+                rows.iter().filter(|r| r.threads == threads).cloned().collect();
             print_traversal(&of_threads)?;
         }
         outln!(
-            "({} rounds after a warm-up, scenes, engines, ray kinds and variants interleaved round by \
-             round; ratios from the rounds paired; random rays: {} from the scene box, uniform directions; \
-             secondary rays from the primary hits; transparent huge pages: {})",
+            "({} rounds after a warm-up, thread counts, scenes, engines, ray kinds and variants \
+             interleaved round by round, backwards in odd rounds, builds too; ratios from the rounds \
+             paired; random rays: {} from the scene box, uniform directions; secondary rays from the \
+             primary hits; transparent huge pages: {})",
             args.rounds,
             args.random,
             crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
