@@ -450,7 +450,6 @@ struct Case<'a> {
 }
 
 /// One thread count's figures of a [`Case`].
-#[derive(Clone, Default)]
 struct Timings {
     /// Build times, ms.
     build_ms: Vec<f64>,

@@ -114,12 +114,10 @@ pub fn run(args: TraversalArgs) -> CliResult {
         .then(|| args.embree_isa.first().map(|isa| isa.config(first_threads)))
         .flatten();
     run.finish(rows, figures, embree.as_deref(), |rows| {
-        let mut printed = Vec::new();
-        for threads in args.threads.iter().map(|&t| t.max(1)) {
-            if printed.contains(&threads) {
-                continue;
-            }
-            printed.push(threads);
+        // The rows come per thread count in the order given (see `measure`).
+        let mut thread_counts: Vec<usize> = rows.iter().map(|r| r.threads).collect();
+        thread_counts.dedup();
+        for threads in thread_counts {
             let of_threads: Vec<TraversalRow> =
                 rows.iter().filter(|r| r.threads == threads).cloned().collect();
             print_traversal(&of_threads)?;
