@@ -1,6 +1,7 @@
 //! Build script. It records the build for `raypack env` (the compiler's
 //! version, the profile, the flags and the git commit, as `RAYPACK_BUILD_*`
-//! variables that `src/environment.rs` reads with `env!`), and, for the `embree`
+//! variables that `src/environment.rs` reads with `env!`; the optimisation
+//! level too, for `tests/cli/inlining.rs`), and, for the `embree`
 //! feature, finds the directory holding `libembree4.so`, adds it to the link
 //! search path, and records it as an rpath so that binaries, tests and benches
 //! run without `LD_LIBRARY_PATH`.
@@ -107,6 +108,11 @@ fn record_build() {
     }
     println!("cargo:rustc-env=RAYPACK_BUILD_RUSTC={version}");
     println!("cargo:rustc-env=RAYPACK_BUILD_PROFILE={profile}");
+    // The optimisation level (the profile name does not say it: `cargo test`
+    // builds `debug` at the test profile's level), for checks that only mean
+    // something in an optimised build.
+    let opt_level = env::var("OPT_LEVEL").unwrap_or_else(|_| "unknown".into());
+    println!("cargo:rustc-env=RAYPACK_BUILD_OPT_LEVEL={opt_level}");
     println!("cargo:rustc-env=RAYPACK_BUILD_RUSTFLAGS={flags}");
     println!("cargo:rustc-env=RAYPACK_BUILD_COMMIT={commit}");
 }

@@ -137,38 +137,3 @@ fn a_level_the_cpu_lacks_is_refused() {
     assert_eq!("auto".parse::<Isa>(), Ok(Isa::best()));
     assert!("avx9".parse::<Isa>().is_err());
 }
-
-/// Every instruction set's entry point is compiled whole: no function of
-/// raypack calls an x86 intrinsic out of line (which a closure or a function
-/// not `#[inline(always)]` under an entry point would cause, at many times
-/// the cost) except `nested_transform_packet`, the deliberate break of the
-/// packet kernels' recursion (and std's CPU feature detection). Reads the
-/// binary's disassembly (`objdump`).
-#[cfg(target_arch = "x86_64")]
-#[test]
-fn entry_points_call_no_intrinsic_out_of_line() {
-    let out = std::process::Command::new("objdump")
-        .args(["-d", "--no-show-raw-insn", "-C", env!("CARGO_BIN_EXE_raypack")])
-        .output()
-        .expect("objdump (binutils) is needed to read the binary");
-    assert!(out.status.success(), "objdump failed");
-    let text = String::from_utf8_lossy(&out.stdout);
-    // Allowed: the break above, and std's CPU feature detection.
-    let allowed = ["nested_transform_packet", "std_detect::", "compiler_builtins::"];
-    let mut function = "";
-    let mut offenders = std::collections::BTreeSet::new();
-    for line in text.lines() {
-        if line.ends_with(">:") {
-            function = line;
-        } else if line.contains("call")
-            && line.contains("core_arch::x86")
-            && !allowed.iter().any(|a| function.contains(a))
-        {
-            offenders.insert(function.to_string());
-        }
-    }
-    assert!(
-        offenders.is_empty(),
-        "intrinsics called out of line in: {offenders:#?}"
-    );
-}

@@ -9,6 +9,7 @@ mod bench_scene;
 mod bench_traversal;
 mod closed_stdout;
 mod info;
+mod inlining;
 mod render;
 mod report;
 mod trace;
