@@ -39,10 +39,7 @@ declare -A max_len=(
 
 # The fuzz build has the portable instruction-set level only (`cfg(fuzzing)`,
 # src/simd/isa.rs): it targets baseline x86-64, as the main build does.
-# FUZZ_CODEGEN_UNITS (default 16) splits each crate's code generation over the
-# cores: cargo-fuzz's default of 1 left one of CI's two cores idle through most
-# of an 11-minute build. A long fuzzing session may set 1 for faster runs.
-(cd fuzz && nice -n 19 cargo +nightly fuzz build -O -a --codegen-units "${FUZZ_CODEGEN_UNITS:-16}" >&2)
+(cd fuzz && nice -n 19 cargo +nightly fuzz build -O -a >&2)
 bin_dir=fuzz/target/x86_64-unknown-linux-gnu/release
 
 work=$(mktemp -d)
