@@ -24,6 +24,7 @@
 
 use glam::{Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
+use wide::f32x4;
 
 use crate::accel::bvh::leaf::BLOCK_SIZE;
 use crate::accel::bvh::node::{Node, NodePair};
@@ -95,8 +96,9 @@ impl BuildOptions {
     }
 }
 
-/// Most bins per axis.
+/// Most bins per axis (a power of two: [`bins_of`] masks with it).
 const MAX_BINS: usize = 32;
+const _: () = assert!(MAX_BINS.is_power_of_two());
 
 /// Depth from which nodes are split at the median instead of by the SAH.
 pub const SAH_DEPTH_LIMIT: usize = 60;
@@ -593,8 +595,14 @@ impl Context {
 /// Reorder `refs` so the primitives left of split `s` come first, measuring
 /// both sides' centroid boxes on the way (their boxes come with the split).
 fn partition(refs: &mut [PrimRef], bins: usize, centroids: &Box3, s: &Split) -> Division {
-    let scale = bin_scales(bins, centroids);
-    let goes_left = |c: Vec3A| bins_of(bins, c, centroids.min, scale)[s.axis] <= s.last_left;
+    // The bin along the split's axis only, computed as `bins_of` does.
+    let axis = s.axis;
+    let (origin, scale, top) = (
+        centroids.min[axis],
+        bin_scales(bins, centroids)[axis],
+        (bins - 1) as f32,
+    );
+    let goes_left = |c: Vec3A| ((c[axis] - origin) * scale).clamp(0.0, top) as usize <= s.last_left;
     let mut centroid_boxes = [Box3::EMPTY; 2];
     let mut add = |side: usize, c: Vec3A| {
         centroid_boxes[side] = centroid_boxes[side].grow(c);
@@ -649,11 +657,15 @@ fn bin_scales(bins: usize, centroids: &Box3) -> Vec3A {
 /// The bin of every axis for centroid `c`.
 #[inline(always)]
 fn bins_of(bins: usize, c: Vec3A, min: Vec3A, scale: Vec3A) -> [usize; 3] {
-    // Clamp in floating point (the top boundary falls in the last bin), then a
-    // plain truncation: much cheaper than saturating `f32 as usize` conversions.
+    // Clamp in floating point (the top boundary falls in the last bin), then
+    // truncate the three lanes in one instruction (cvttps2dq): they are in
+    // range, so the saturating `f32 as i32` casts' compare and select per lane
+    // would buy nothing.
     let k = ((c - min) * scale).clamp(Vec3A::ZERO, Vec3A::splat((bins - 1) as f32));
-    let k = k.as_ivec3();
-    [k.x as usize, k.y as usize, k.z as usize]
+    let [x, y, z, _] = f32x4::new(k.extend(0.0).to_array()).fast_trunc_int().to_array();
+    // The mask changes no index (all are below `bins` ≤ MAX_BINS) and spares
+    // the bins' bounds checks.
+    [x, y, z].map(|k| k as usize & (MAX_BINS - 1))
 }
 
 /// Split at the median centroid of the widest centroid axis.
