@@ -75,7 +75,7 @@ fn whitted(c: &mut Criterion) {
         };
         group.bench_function(
             BenchmarkId::from_parameter(format!("mixed-60/{}/2t", kernel.name())),
-            |b| b.iter(|| render(&scene, &accel, &camera, &settings, &pool, || {}).counts),
+            |b| b.iter(|| render(&scene, &accel, &camera, &settings, &pool, &|| {}).counts),
         );
     }
     group.finish();

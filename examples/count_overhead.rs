@@ -85,8 +85,8 @@ fn main() -> ExitCode {
     for round in 0..=args.rounds {
         for (k, (_, counting)) in variants.iter().enumerate() {
             let out = match counting {
-                None => render(&scene, &bvh, &camera, &settings, &pool, || {}),
-                Some(c) => render_counted(&scene, &bvh, &camera, &settings, *c, &pool, || {}),
+                None => render(&scene, &bvh, &camera, &settings, &pool, &|| {}),
+                Some(c) => render_counted(&scene, &bvh, &camera, &settings, *c, &pool, &|| {}),
             };
             if round > 0 {
                 ms[k].push(1e3 * out.tile_seconds.iter().sum::<f64>());

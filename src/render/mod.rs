@@ -83,7 +83,7 @@ pub fn render<A: Accel>(
     camera: &Camera,
     settings: &RenderSettings,
     pool: &rayon::ThreadPool,
-    on_tile: impl Fn() + Sync,
+    on_tile: &(dyn Fn() + Sync),
 ) -> Render {
     render_counted(scene, accel, camera, settings, Counting::Off, pool, on_tile)
 }
@@ -98,7 +98,7 @@ pub fn render_counted<A: Accel>(
     settings: &RenderSettings,
     counting: Counting,
     pool: &rayon::ThreadPool,
-    on_tile: impl Fn() + Sync,
+    on_tile: &(dyn Fn() + Sync),
 ) -> Render {
     let counting = if A::COUNTS_WORK { counting } else { Counting::Off };
     let job = Job {
@@ -118,16 +118,18 @@ pub fn render_counted<A: Accel>(
 
 /// One render's inputs, on their way to the instantiation of the trace loop
 /// for the chosen kernel and counter.
-struct Job<'a, A, T> {
+/// (`on_tile` is a trait object so that every caller shares one instantiation
+/// per structure: the trace loop is instantiated for every kernel and counter.)
+struct Job<'a, A> {
     scene: &'a Scene,
     accel: &'a A,
     camera: &'a Camera,
     settings: &'a RenderSettings,
     pool: &'a rayon::ThreadPool,
-    on_tile: T,
+    on_tile: &'a (dyn Fn() + Sync),
 }
 
-impl<A: Accel, T: Fn() + Sync> Job<'_, A, T> {
+impl<A: Accel> Job<'_, A> {
     /// Render counting with `C`, through the kernel the settings name.
     fn counted<C: TileCounter>(self) -> Render {
         match self.settings.kernel {

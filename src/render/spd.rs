@@ -45,7 +45,7 @@ pub fn spd_counts<A: Accel>(
     pool: &rayon::ThreadPool,
 ) -> Result<RayCounts, CameraError> {
     let camera = spd_camera(scene)?;
-    Ok(render(scene, accel, &camera, &spd_settings(kernel), pool, || {}).counts)
+    Ok(render(scene, accel, &camera, &spd_settings(kernel), pool, &|| {}).counts)
 }
 
 /// [`spd_counts`], and the traversal work of all those rays where the
@@ -60,7 +60,7 @@ pub fn spd_counts_with_traversal<A: Accel>(
 ) -> Result<(RayCounts, Option<TraversalStats>), CameraError> {
     let camera = spd_camera(scene)?;
     let settings = spd_settings(kernel);
-    let r = render_counted(scene, accel, &camera, &settings, Counting::Totals, pool, || {});
+    let r = render_counted(scene, accel, &camera, &settings, Counting::Totals, pool, &|| {});
     Ok((r.counts, r.traversal.map(|t| t.total)))
 }
 

@@ -119,7 +119,7 @@ fn every_scene_file_renders_in_every_mode() {
                 max_depth: 5,
                 sampling: Sampling::PixelCentres,
             };
-            let r = render(&scene, &accel, &camera, &settings, &pool, || {});
+            let r = render(&scene, &accel, &camera, &settings, &pool, &|| {});
             assert_eq!(r.counts.eye_rays, 48 * 48, "{} {mode:?}", path.display());
             assert!(
                 r.frame.color.iter().all(|c| c.is_finite()),

@@ -22,7 +22,7 @@ fn run(scene: &Scene, settings: RenderSettings, threads: usize) -> Render {
         &camera,
         &settings,
         &pool(threads),
-        || {},
+        &|| {},
     )
 }
 

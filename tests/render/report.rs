@@ -31,7 +31,7 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
         &settings,
         Counting::Totals,
         &pool,
-        || {},
+        &|| {},
     );
     let info = RunInfo {
         engine: Engine::Raypack,

@@ -79,9 +79,9 @@ fn packet_primary<A: Accel>(accel: &A, camera: &Camera, s: &RenderSettings) -> T
 /// renders: counting changes no pixel and no count.
 fn counted(scene: &Scene, accel: &impl Accel, camera: &Camera, s: &RenderSettings) -> Render {
     let pool = pool();
-    let plain = render(scene, accel, camera, s, &pool, || {});
-    let totals = render_counted(scene, accel, camera, s, Counting::Totals, &pool, || {});
-    let per_pixel = render_counted(scene, accel, camera, s, Counting::PerPixel, &pool, || {});
+    let plain = render(scene, accel, camera, s, &pool, &|| {});
+    let totals = render_counted(scene, accel, camera, s, Counting::Totals, &pool, &|| {});
+    let per_pixel = render_counted(scene, accel, camera, s, Counting::PerPixel, &pool, &|| {});
     assert!(plain.traversal.is_none());
     for r in [&totals, &per_pixel] {
         assert_eq!(r.frame, plain.frame);
@@ -355,7 +355,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
     let camera = scene.camera.unwrap().camera().unwrap();
     let accel = Bvh::new(&scene.primitives);
     let s = settings(Mode::Cast, KernelKind::Packet8, Block::B4x4);
-    let plain = render(&scene, &accel, &camera, &s, &pool(), || {});
+    let plain = render(&scene, &accel, &camera, &s, &pool(), &|| {});
     let info = raypack::picture::report::RunInfo {
         engine: raypack::render::engine::Engine::Raypack,
         kernel: s.kernel,

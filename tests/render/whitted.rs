@@ -26,7 +26,7 @@ fn trace(scene: &Scene, kernel: KernelKind, max_depth: u32) -> Render {
         &camera,
         &settings,
         &pool,
-        || {},
+        &|| {},
     )
 }
 
