@@ -76,8 +76,13 @@ fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
     for (_, packet) in support::bvh::primary_packets(bounds, 256, 256) {
         bvh.intersect_packet_counted(&packet, &mut primary);
     }
+    // Rays from one point per packet in random directions, as secondary rays
+    // from neighbouring hit points are (rays from all over the scene share no
+    // node, and walk as single rays from the root).
     let mut random = TraversalStats::default();
-    for chunk in support::bvh::random_rays(bounds, 256 * 256, 24).chunks(8) {
+    for chunk in support::bvh::random_rays(bounds, 256 * 256, 24).chunks_mut(8) {
+        let origin = chunk[0].origin;
+        chunk.iter_mut().for_each(|ray| ray.origin = origin);
         bvh.intersect_packet_counted(&RayPacket8::from_rays(chunk), &mut random);
     }
     assert_eq!(primary.rays, 256 * 256);

@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 
-use crate::accel::bvh::query::{INTERLEAVE_FROM, INTERLEAVED, PacketQuery, RayQuery, lane_bits, lane_groups};
+use crate::accel::bvh::query::{INTERLEAVED, PacketQuery, RayQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::{trace, traverse, traverse_interleaved};
@@ -95,9 +95,10 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
         bvh: &Bvh,
         lanes: u32,
         start: ChildRef,
+        interleaved: bool,
         stats: &mut S,
     ) {
-        if lanes.count_ones() < INTERLEAVE_FROM {
+        if !interleaved {
             for lane in lane_bits(lanes) {
                 stats.lane(lane);
                 let ray = self.rays.ray(lane);

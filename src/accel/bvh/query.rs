@@ -41,9 +41,8 @@ pub trait PacketQuery<F: SimdFloat> {
 
     /// Trace the lanes of the mask `lanes` through the subtree of the wide
     /// tree of width `W` under `start` (whose box they met) as single rays (reporting each
-    /// to [`Counter::lane`]), with `F`'s 8-lane type: one after the other when
-    /// they are fewer than [`INTERLEAVE_FROM`], else up to [`INTERLEAVED`] at
-    /// once ([`traverse_interleaved`]).
+    /// to [`Counter::lane`]), with `F`'s 8-lane type: up to [`INTERLEAVED`] at
+    /// once ([`traverse_interleaved`]) with `interleaved`, else one after the other.
     ///
     /// [`traverse_interleaved`]: crate::accel::bvh::traverse_single::traverse_interleaved
     fn finish_lanes<W: TreeWidth, S: Counter>(
@@ -51,6 +50,7 @@ pub trait PacketQuery<F: SimdFloat> {
         bvh: &Bvh,
         lanes: u32,
         start: ChildRef,
+        interleaved: bool,
         stats: &mut S,
     );
 }
@@ -59,8 +59,8 @@ pub trait PacketQuery<F: SimdFloat> {
 /// walks at once.
 pub const INTERLEAVED: usize = 8;
 
-/// Lanes [`PacketQuery::finish_lanes`] walks interleaved rather than one
-/// after the other, at least. Two interleaved walks cost more than their
+/// Lanes that walk interleaved rather than one after the other, at least
+/// (where [`PacketQuery::finish_lanes`] is asked to interleave). Two interleaved walks cost more than their
 /// overlap saved: the hybrid traversal's one- and two-lane subtrees of the
 /// dragon's ambient-occlusion rays went 0.96× as fast as single rays, against
 /// 1.14× walked one after the other.

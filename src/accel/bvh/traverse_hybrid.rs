@@ -13,7 +13,7 @@
 //! rays keep to the binary tree ([`traverse_packet`](super::traverse_packet)).
 
 use crate::accel::bvh::Bvh;
-use crate::accel::bvh::query::PacketQuery;
+use crate::accel::bvh::query::{INTERLEAVE_FROM, PacketQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
 use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes, TreeWidth};
@@ -25,6 +25,21 @@ use crate::simd::SimdFloat;
 /// loads it shares.
 pub const SINGLE_RAY_LANES: u32 = 2;
 
+/// How a packet's lanes set out from the root of the wide tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LaneWalk {
+    /// Together, sharing each node's test until a subtree is wanted by
+    /// [`SINGLE_RAY_LANES`] lanes or fewer (secondary rays from nearby points).
+    Shared,
+    /// Each lane alone through the whole tree, one after the other: rays that
+    /// share no node below the root, in a tree that stays in the caches.
+    Apart,
+    /// Each lane alone through the whole tree, up to
+    /// [`INTERLEAVED`](crate::accel::bvh::query::INTERLEAVED) at once: rays
+    /// that share no node below the root, in a tree whose loads miss the caches.
+    ApartInterleaved,
+}
+
 /// A child still to visit: what it is, the lanes that met its box, and the
 /// smallest of their entry t. 16 bytes.
 #[derive(Clone, Copy)]
@@ -35,9 +50,9 @@ struct Pending {
 }
 
 /// Traverse the wide tree from its root with the lanes of `lanes` (which met
-/// the root's box) of the rays prepared in `slab`; with `single_rays`, every
-/// lane walks the whole tree as a single ray (rays that share no node below
-/// the root, see [`is_scattered`](super::traverse_packet::is_scattered)).
+/// the root's box) of the rays prepared in `slab`, setting out as `walk`
+/// says (lanes apart for rays that share no node below the root, see
+/// [`is_scattered`](super::traverse_packet::is_scattered)).
 /// This is the one place packets hand lanes to
 /// [`PacketQuery::finish_lanes`], so the single-ray walk is compiled once
 /// into each packet query's entry point.
@@ -46,7 +61,7 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     bvh: &Bvh,
     slab: &SlabPacket<F>,
     lanes: F,
-    single_rays: bool,
+    walk: LaneWalk,
     query: &mut Q,
     stats: &mut S,
 ) {
@@ -54,7 +69,11 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     let mut next = ChildRef::ROOT;
     let mut active = lanes;
     // Lanes that share nothing are handed over at the root (nothing is pushed).
-    let single_ray_lanes = if single_rays { u32::MAX } else { SINGLE_RAY_LANES };
+    let single_ray_lanes = if walk == LaneWalk::Shared {
+        SINGLE_RAY_LANES
+    } else {
+        u32::MAX
+    };
     loop {
         let bits = active.bitmask();
         if bits.count_ones() <= single_ray_lanes {
@@ -63,9 +82,11 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
             if next == ChildRef::ROOT {
                 // From the root (all lanes, or too few to share anything):
                 // the single rays' own, wider tree.
-                query.finish_lanes::<RayTreeLanes, S>(bvh, bits, next, stats);
+                let interleaved = walk == LaneWalk::ApartInterleaved && bits.count_ones() >= INTERLEAVE_FROM;
+                query.finish_lanes::<RayTreeLanes, S>(bvh, bits, next, interleaved, stats);
             } else {
-                query.finish_lanes::<PacketTreeLanes, S>(bvh, bits, next, stats);
+                // (Never interleaved: two walks overlap too little, see INTERLEAVE_FROM.)
+                query.finish_lanes::<PacketTreeLanes, S>(bvh, bits, next, false, stats);
             }
         } else if next.is_leaf() {
             if !next.is_empty() {

@@ -29,10 +29,10 @@ use glam::Vec3;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::node::{NodeId, ROOT};
-use crate::accel::bvh::query::{INTERLEAVE_FROM, INTERLEAVED, PacketQuery, lane_bits, lane_groups};
+use crate::accel::bvh::query::{INTERLEAVED, PacketQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
-use crate::accel::bvh::traverse_hybrid::traverse_hybrid;
+use crate::accel::bvh::traverse_hybrid::{LaneWalk, traverse_hybrid};
 use crate::accel::bvh::traverse_single::{Nearest, traverse, traverse_interleaved};
 use crate::accel::bvh::wide::{ChildRef, TreeWidth};
 use crate::accel::stats::Counter;
@@ -84,13 +84,16 @@ pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
     (inside & rays.active).bitmask() == rays.active.bitmask()
 }
 
-/// Trees smaller than this (wide nodes and leaves, [`Bvh::walked_bytes`])
-/// keep scattered packets in the hybrid traversal: interleaved walks hide
-/// cache misses, and a tree this small mostly stays in the caches (2–4× a
-/// core's L2 on the Xeon and EPYC machines seen here), so only their set-up
-/// would count. Random rays walked interleaved ran 0.81× as fast as single
-/// rays on `spd_balls.nff` (7,382 spheres) and 0.83× on a 960-triangle mesh,
-/// against 1.36× on the dragon and 1.56× on a 10⁶-triangle mesh (Xeon).
+/// Scattered packets in trees smaller than this (wide nodes and leaves,
+/// [`Bvh::walked_bytes`]) walk their lanes one after the other rather than
+/// interleaved: interleaved walks hide cache misses, and a tree this small
+/// mostly stays in the caches (2–4× a core's L2 on the Xeon and EPYC machines
+/// seen here), so only their set-up would count. Random rays walked
+/// interleaved ran 0.81× as fast as single rays on `spd_balls.nff` (7,382
+/// spheres) and 0.83× on a 960-triangle mesh, against 1.36× on the dragon and
+/// 1.56× on a 10⁶-triangle mesh (Xeon). In the hybrid traversal, which shares
+/// nothing for them, they ran 0.65–0.74× as fast as single rays on 10³- and
+/// 10⁴-triangle meshes; one after the other, 0.77–0.90× (AMD EPYC).
 pub const INTERLEAVE_MIN_BYTES: usize = 4 << 20;
 
 /// Fraction of the scene box's diagonal that the origins of a packet's lanes
@@ -167,11 +170,17 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     if !Q::NEAREST_FIRST || !is_coherent(rays) {
         // Incoherent rays part ways too soon for the binary tree, and any-hit
         // rays, which need no order, meet fewer nodes in the wide one. Rays
-        // from all over a large tree share nothing below the root: they walk
-        // it as single rays, interleaved. Else the hybrid traversal shares
-        // what the lanes do share.
-        let scattered = bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES && is_scattered(rays, &bvh.bounds());
-        traverse_hybrid(bvh, &slab, mask, scattered, query, stats);
+        // from all over the scene share nothing below the root: they walk it
+        // as single rays, interleaved where the tree is large. Else the
+        // hybrid traversal shares what the lanes do share.
+        let walk = if !is_scattered(rays, &bvh.bounds()) {
+            LaneWalk::Shared
+        } else if bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES {
+            LaneWalk::ApartInterleaved
+        } else {
+            LaneWalk::Apart
+        };
+        traverse_hybrid(bvh, &slab, mask, walk, query, stats);
         return;
     }
     // Far children still to visit, with their lanes' entry t (NaN in the other lanes).
@@ -267,9 +276,10 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
         bvh: &Bvh,
         lanes: u32,
         start: ChildRef,
+        interleaved: bool,
         stats: &mut S,
     ) {
-        if lanes.count_ones() < INTERLEAVE_FROM {
+        if !interleaved {
             for lane in lane_bits(lanes) {
                 stats.lane(lane);
                 let ray = self.rays.ray(lane);
@@ -388,12 +398,11 @@ mod tests {
         assert!(!is_scattered(&RayPacket8::from_rays(&rays), &scene));
     }
 
-    /// Packets of random rays from all over a large tree, walked as interleaved
-    /// single rays (8 and 16 lanes, any two or more on, some rays bounded): every
-    /// lane's nearest hit and occlusion are its single ray's, bit for bit, and
-    /// so are the nodes visited and primitives tested, summed over the lanes.
-    /// In a small tree the same packets take the hybrid traversal, with the
-    /// same answers.
+    /// Packets of random rays from all over a tree, walked as single rays
+    /// (interleaved in a large tree, one after the other in a small one; 8 and
+    /// 16 lanes, any two or more on, some rays bounded): every lane's nearest
+    /// hit and occlusion are its single ray's, bit for bit, and so are the
+    /// nodes visited and primitives tested, summed over the lanes.
     #[test]
     fn scattered_packets_answer_and_count_as_their_single_rays() {
         scattered_packets_agree::<wide::f32x8>();
@@ -459,14 +468,9 @@ mod tests {
                     );
                 }
             }
-            if large {
-                assert_eq!(packet_stats.nodes_visited, single_stats.nodes_visited);
-                assert_eq!(packet_stats.prim_tests, single_stats.prim_tests);
-            }
-            if !large {
-                // A small tree keeps them in the hybrid traversal.
-                assert!(packet_stats.simd_steps > 0, "{packet_stats:?}");
-            } else if bvh.info().unbounded == 0 {
+            assert_eq!(packet_stats.nodes_visited, single_stats.nodes_visited);
+            assert_eq!(packet_stats.prim_tests, single_stats.prim_tests);
+            if bvh.info().unbounded == 0 {
                 // (Planes are tested by the packet, and may settle lanes.)
                 assert_eq!(
                     packet_stats.fallback_rays, packet_stats.rays,
