@@ -83,8 +83,8 @@ fn output_of(program: &str, args: &[&str]) -> Option<String> {
 
 /// The build, for `raypack env`: rustc's version, the profile, the flags
 /// (`CARGO_ENCODED_RUSTFLAGS`, separated by spaces) and the git commit
-/// ("unknown" outside a git checkout). The script runs again when HEAD moves, so
-/// the commit stays current.
+/// ("unknown" outside a git checkout), and whether the sources differ from it.
+/// The script runs again when HEAD moves, so the commit stays current.
 fn record_build() {
     let rustc = env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
     let version = output_of(&rustc, &["--version"]).unwrap_or_else(|| "unknown".into());
@@ -93,6 +93,15 @@ fn record_build() {
         .unwrap_or_default()
         .replace('\x1f', " ");
     let commit = output_of("git", &["rev-parse", "HEAD"]).unwrap_or_else(|| "unknown".into());
+    // Sources that differ from the commit (edited, or new and untracked) make
+    // a figure measured with this build not the commit's: say so beside it.
+    // The script runs again when they change, so the mark stays current.
+    let sources = ["src", "build.rs", "Cargo.toml", "Cargo.lock"];
+    let status = [&["status", "--porcelain", "--"][..], &sources[..]].concat();
+    let modified = output_of("git", &status).is_some_and(|s| !s.is_empty());
+    for path in sources {
+        println!("cargo:rerun-if-changed={path}");
+    }
     // HEAD, and the branch it points to (in a worktree, both live in the common dir).
     for path in ["HEAD", "packed-refs"]
         .into_iter()
@@ -115,6 +124,7 @@ fn record_build() {
     println!("cargo:rustc-env=RAYPACK_BUILD_OPT_LEVEL={opt_level}");
     println!("cargo:rustc-env=RAYPACK_BUILD_RUSTFLAGS={flags}");
     println!("cargo:rustc-env=RAYPACK_BUILD_COMMIT={commit}");
+    println!("cargo:rustc-env=RAYPACK_BUILD_MODIFIED={modified}");
 }
 
 fn link_from(dir: &Path) {

@@ -58,6 +58,11 @@ pub struct Environment {
     pub features: Vec<String>,
     /// Git commit the build was made from, or "unknown".
     pub git_commit: String,
+    /// Whether the build's sources (`src`, `build.rs`, `Cargo.toml`,
+    /// `Cargo.lock`) differed from that commit: uncommitted changes, or new
+    /// files (false in results stored before this was recorded).
+    #[serde(default)]
+    pub git_modified: bool,
     /// Embree, when the build has it and a device was made.
     pub embree: Option<EmbreeInfo>,
     /// When this was collected: UTC, `YYYY-MM-DDTHH:MM:SSZ`.
@@ -94,6 +99,7 @@ impl Environment {
                 Vec::new()
             },
             git_commit: env!("RAYPACK_BUILD_COMMIT").to_string(),
+            git_modified: env!("RAYPACK_BUILD_MODIFIED") == "true",
             embree: None,
             date: utc_date(seconds),
         }
@@ -110,6 +116,16 @@ impl Environment {
     /// The kernels' instruction set, "unknown" where not recorded.
     pub fn isa_label(&self) -> &str {
         if self.isa.is_empty() { "unknown" } else { &self.isa }
+    }
+
+    /// The commit, marked when the build's sources differed from it
+    /// (`58e706d… with uncommitted changes`).
+    pub fn commit_label(&self) -> String {
+        if self.git_modified {
+            format!("{} with uncommitted changes", self.git_commit)
+        } else {
+            self.git_commit.clone()
+        }
     }
 
     /// Name and value of each field, for a text table.
@@ -144,7 +160,7 @@ impl Environment {
                 },
             ),
             ("features", list(&self.features)),
-            ("commit", self.git_commit.clone()),
+            ("commit", self.commit_label()),
         ];
         if let Some(e) = &self.embree {
             rows.push(("embree", format!("{} \"{}\"", e.version, e.config)));
@@ -278,6 +294,26 @@ processor\t: 2\nmodel name\t: AMD EPYC 9B45\nphysical id\t: 0\ncore id\t\t: 1\n"
         assert_eq!(utc_date(4_102_444_800), "2100-01-01T00:00:00Z");
     }
 
+    /// A build of modified sources says so beside its commit; results stored
+    /// before the mark was recorded read as unmodified.
+    #[test]
+    fn marks_a_build_of_modified_sources() {
+        let mut env = Environment::collect();
+        env.git_commit = "abc".into();
+        env.git_modified = false;
+        assert_eq!(env.commit_label(), "abc");
+        assert!(env.rows().contains(&("commit", "abc".to_string())));
+        env.git_modified = true;
+        assert_eq!(env.commit_label(), "abc with uncommitted changes");
+        assert!(
+            env.rows()
+                .contains(&("commit", "abc with uncommitted changes".to_string()))
+        );
+        let mut json = serde_json::to_value(&env).unwrap();
+        json.as_object_mut().unwrap().remove("git_modified");
+        assert!(!serde_json::from_value::<Environment>(json).unwrap().git_modified);
+    }
+
     #[test]
     fn collects_and_serialises() {
         let env = Environment::collect().with_embree(EmbreeInfo {
@@ -298,6 +334,7 @@ processor\t: 2\nmodel name\t: AMD EPYC 9B45\nphysical id\t: 0\ncore id\t\t: 1\n"
             "rustc",
             "profile",
             "git_commit",
+            "git_modified",
             "date",
         ] {
             assert!(json.get(key).is_some(), "{key} missing from {json}");

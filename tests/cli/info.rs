@@ -171,6 +171,23 @@ fn env_describes_the_machine_and_the_build() {
         .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string());
     if let Some(head) = head {
         assert_eq!(json["git_commit"], head.as_str());
+        // Marked as modified exactly when the sources differ from HEAD (the
+        // binary under test was built from them as they are now).
+        let status = Command::new("git")
+            .args([
+                "status",
+                "--porcelain",
+                "--",
+                "src",
+                "build.rs",
+                "Cargo.toml",
+                "Cargo.lock",
+            ])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        assert!(status.status.success());
+        assert_eq!(json["git_modified"], !status.stdout.is_empty(), "{json}");
     }
     assert_eq!(json["embree"].is_object(), cfg!(feature = "embree"), "{json}");
 

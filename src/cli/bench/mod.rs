@@ -121,7 +121,7 @@ impl<'a> Run<'a> {
             let (changes, unmatched) = compare(&old.figures, &result.figures, threshold);
             Comparison {
                 baseline: self.output.baseline.clone().unwrap_or_default(),
-                baseline_commit: old.environment.git_commit,
+                baseline_commit: old.environment.commit_label(),
                 baseline_date: old.environment.date,
                 noise_threshold: threshold,
                 changes,
@@ -148,7 +148,7 @@ impl<'a> Run<'a> {
             env.cpu_model,
             env.threads,
             env.isa_label(),
-            env.git_commit,
+            env.commit_label(),
             env.date
         )?;
         if let Some(c) = &result.comparison {
