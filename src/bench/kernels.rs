@@ -286,8 +286,8 @@ impl Measure {
                 break;
             }
         }
-        let seconds = self.slowdown.apply(variant, start.elapsed().as_secs_f64());
-        (calls * per_call) as f64 / seconds
+        let tests = (calls * per_call) as f64;
+        tests / self.slowdown.apply(variant, tests, start.elapsed().as_secs_f64())
     }
 }
 

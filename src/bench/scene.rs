@@ -261,7 +261,8 @@ pub fn interleave(
         for (k, u) in units.iter().enumerate() {
             let start = Instant::now();
             std::hint::black_box((u.trace)(&pools[k]));
-            samples[k].push(slowdown.apply(u.variant.kernel.name(), start.elapsed().as_secs_f64()));
+            // (A frame is the unit of work.)
+            samples[k].push(slowdown.apply(u.variant.kernel.name(), 1.0, start.elapsed().as_secs_f64()));
         }
     }
     Ok(units

@@ -588,7 +588,8 @@ pub fn measure(
                     for (v, variant) in ["single", "packet8"].into_iter().enumerate() {
                         let start = Instant::now();
                         let hits = black_box(case.structure.trace(set, v == 1));
-                        let seconds = slowdown.apply(variant, start.elapsed().as_secs_f64());
+                        let rays = set.rays.len() as f64;
+                        let seconds = slowdown.apply(variant, rays, start.elapsed().as_secs_f64());
                         if round == 0 && v == 0 {
                             case.hits[k] = hits;
                         }

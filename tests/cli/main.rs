@@ -1,10 +1,11 @@
 //! The command line, one test crate: `render`, `stats`, `info`, `env`, `trace`,
-//! `report` and the `bench` subcommands, run as a user runs them (the built
+//! `report` and the `bench` subcommands (with their baselines), run as a user runs them (the built
 //! binary), bad input included.
 
 #[path = "../support/mod.rs"]
 mod support;
 
+mod bench_baseline;
 mod bench_scene;
 mod bench_traversal;
 mod closed_stdout;
