@@ -60,10 +60,11 @@ pub trait PacketQuery<F: SimdFloat> {
 pub const INTERLEAVED: usize = 8;
 
 /// Lanes that walk interleaved rather than one after the other, at least
-/// (where [`PacketQuery::finish_lanes`] is asked to interleave). Two interleaved walks cost more than their
-/// overlap saved: the hybrid traversal's one- and two-lane subtrees of the
-/// dragon's ambient-occlusion rays went 0.96× as fast as single rays, against
-/// 1.14× walked one after the other.
+/// (where [`PacketQuery::finish_lanes`] is asked to interleave). Two
+/// interleaved walks cost more than their overlap saved: the hybrid
+/// traversal's one- and two-lane subtrees of the dragon's ambient-occlusion
+/// rays went 0.96× as fast as single rays, against 1.14× walked one after the
+/// other.
 pub const INTERLEAVE_FROM: u32 = 3;
 
 /// The lanes of the mask `lanes`, lowest first.
