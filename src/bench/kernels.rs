@@ -13,7 +13,7 @@ use glam::{Mat4, Quat, Vec3};
 use wide::{f32x4, f32x8, f32x16};
 
 use crate::bench::figure::{Better, Figure};
-use crate::bench::slowdown::Slowdown;
+use crate::bench::timing_hooks::TimingHooks;
 
 use crate::geometry::plane::Plane;
 use crate::geometry::{Cone, Intersect, Polygon, Primitive, Sphere, Transformed, Triangle};
@@ -267,8 +267,8 @@ pub struct Measure {
     pub sample: Duration,
     /// Samples per variant.
     pub rounds: usize,
-    /// The bench timing hook ([`Slowdown`]).
-    pub slowdown: Slowdown,
+    /// The bench timing hooks ([`TimingHooks`]).
+    pub hooks: TimingHooks,
     /// The finished rows.
     pub rows: Vec<KernelRow>,
 }
@@ -287,7 +287,7 @@ impl Measure {
             }
         }
         let tests = (calls * per_call) as f64;
-        tests / self.slowdown.apply(variant, tests, start.elapsed().as_secs_f64())
+        tests / self.hooks.apply(variant, tests, start.elapsed().as_secs_f64())
     }
 }
 

@@ -9,5 +9,5 @@ pub mod kernels;
 pub mod rays;
 pub mod result;
 pub mod scene;
-pub mod slowdown;
+pub mod timing_hooks;
 pub mod traversal;

@@ -17,7 +17,7 @@ use std::time::Instant;
 use crate::accel::Accel;
 use crate::accel::stats::NoStats;
 use crate::bench::rays::RaySet;
-use crate::bench::slowdown::Slowdown;
+use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::{trace_packets, trace_packets16, trace_single};
 use crate::camera::Camera;
 use crate::render::kernel::TraceKernel;
@@ -194,7 +194,7 @@ pub fn units<'a, A: Accel>(
 }
 
 /// Measure every variant `runs` times (interleaved, after a warm-up each),
-/// times passed through the bench timing hook `slowdown`.
+/// times passed through the bench timing hooks `hooks`.
 /// Fails if two variants disagree on the number of hits, which would mean the
 /// kernels do not trace the same scene.
 pub fn measure<A: Accel>(
@@ -202,10 +202,10 @@ pub fn measure<A: Accel>(
     frame: &PrimaryFrame,
     variants: &[Variant],
     runs: usize,
-    slowdown: &Slowdown,
+    hooks: &TimingHooks,
 ) -> Result<Vec<Timing>, String> {
     let rays = Rays::Primary(frame);
-    interleave(&units(accel, rays, variants, 0)?, runs, slowdown, rays.count())
+    interleave(&units(accel, rays, variants, 0)?, runs, hooks, rays.count())
 }
 
 /// Measure the rays of `set` per variant as [`measure`] does the primary rays
@@ -215,21 +215,21 @@ pub fn measure_set<A: Accel>(
     set: &RaySet,
     variants: &[Variant],
     runs: usize,
-    slowdown: &Slowdown,
+    hooks: &TimingHooks,
 ) -> Result<Vec<Timing>, String> {
     let rays = Rays::Set(set);
-    interleave(&units(accel, rays, variants, 0)?, runs, slowdown, rays.count())
+    interleave(&units(accel, rays, variants, 0)?, runs, hooks, rays.count())
 }
 
 /// Time every unit (each trace `rays` rays) on a pool of its variant's
 /// threads, `runs` times interleaved unit by unit after a warm-up each, so
 /// that run `i` of every unit (of every engine among them) falls in round `i`;
-/// times pass through the bench timing hook `slowdown`. Fails if two units of
+/// times pass through the bench timing hooks `hooks`. Fails if two units of
 /// one engine disagree on the number of hits.
 pub fn interleave(
     units: &[Unit<'_>],
     runs: usize,
-    slowdown: &Slowdown,
+    hooks: &TimingHooks,
     rays: u64,
 ) -> Result<Vec<Timing>, String> {
     let pools = units
@@ -262,7 +262,7 @@ pub fn interleave(
             let start = Instant::now();
             std::hint::black_box((u.trace)(&pools[k]));
             // (A frame is the unit of work.)
-            samples[k].push(slowdown.apply(u.variant.kernel.name(), 1.0, start.elapsed().as_secs_f64()));
+            samples[k].push(hooks.apply(u.variant.kernel.name(), 1.0, start.elapsed().as_secs_f64()));
         }
     }
     Ok(units

@@ -25,7 +25,7 @@ use crate::accel::stats::NoStats;
 use crate::accel::{Accel, Bvh, TraversalStats};
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{Query, RayKind, RaySet, RaySource, default_light};
-use crate::bench::slowdown::Slowdown;
+use crate::bench::timing_hooks::TimingHooks;
 use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::engine::{EmbreeIsa, Engine};
@@ -498,7 +498,7 @@ fn pool(threads: usize, variants: &[EngineVariant]) -> anyhow::Result<rayon::Thr
 ///
 /// Each round goes through thread counts, scenes, engines, kinds and
 /// variants, backwards in odd rounds; times pass through
-/// the bench timing hook `slowdown`. Rows come per thread count in the order
+/// the bench timing hooks `hooks`. Rows come per thread count in the order
 /// given, then per scene and engine.
 pub fn measure(
     setups: &[TraversalSetup],
@@ -506,7 +506,7 @@ pub fn measure(
     embree_isas: &[EmbreeIsa],
     threads: &[usize],
     rounds: usize,
-    slowdown: &Slowdown,
+    hooks: &TimingHooks,
 ) -> anyhow::Result<Vec<TraversalRow>> {
     let mut thread_counts: Vec<usize> = Vec::new();
     for t in threads.iter().map(|&t| t.max(1)) {
@@ -589,7 +589,7 @@ pub fn measure(
                         let start = Instant::now();
                         let hits = black_box(case.structure.trace(set, v == 1));
                         let rays = set.rays.len() as f64;
-                        let seconds = slowdown.apply(variant, rays, start.elapsed().as_secs_f64());
+                        let seconds = hooks.apply(variant, rays, start.elapsed().as_secs_f64());
                         if round == 0 && v == 0 {
                             case.hits[k] = hits;
                         }
@@ -737,8 +737,8 @@ mod tests {
             TraversalSetup::generated("mesh", 100, (16, 16), 32, &kinds).expect("known kind"),
             TraversalSetup::generated("mesh", 300, (16, 16), 32, &kinds).expect("known kind"),
         ];
-        let slowdown = Slowdown::default();
-        let rows = measure(&setups, &[Engine::Raypack], &[], &[2, 1, 2], 3, &slowdown).unwrap();
+        let hooks = TimingHooks::default();
+        let rows = measure(&setups, &[Engine::Raypack], &[], &[2, 1, 2], 3, &hooks).unwrap();
         // A thread count given twice is measured once, in the order given.
         let layout: Vec<_> = rows.iter().map(|r| (r.threads, r.primitives)).collect();
         let [small, large] = setups.each_ref().map(|s| s.prims.len());
@@ -757,7 +757,7 @@ mod tests {
             assert_eq!(hits(two), hits(one));
             assert!(hits(one)[0] > 0, "the camera sees the mesh");
         }
-        assert!(measure(&setups, &[Engine::Raypack], &[], &[], 1, &slowdown).is_err());
+        assert!(measure(&setups, &[Engine::Raypack], &[], &[], 1, &hooks).is_err());
     }
 
     #[test]

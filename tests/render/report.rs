@@ -4,7 +4,7 @@
 use crate::support;
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
-use raypack::bench::slowdown::Slowdown;
+use raypack::bench::timing_hooks::TimingHooks;
 use raypack::picture::annotate::annotate_render;
 use raypack::picture::heat_map::HeatMapKind;
 use raypack::picture::report::{RenderReport, RunInfo};
@@ -163,7 +163,7 @@ fn scene_bench_measures_every_variant_on_the_same_rays() {
         &frame,
         &variants,
         2,
-        &Slowdown::default(),
+        &TimingHooks::default(),
     )
     .unwrap();
     assert_eq!(timings.len(), 8);

@@ -36,7 +36,7 @@ pub fn run(args: KernelsArgs) -> CliResult {
     let mut measure = Measure {
         sample: Duration::from_millis(args.sample_ms),
         rounds: args.rounds.max(1),
-        slowdown: run.slowdown.clone(),
+        hooks: run.hooks.clone(),
         rows: Vec::new(),
     };
     for_each_setup(args.rays.max(1), args.seed, &mut measure);

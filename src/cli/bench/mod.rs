@@ -14,7 +14,7 @@ use crate::bench::baseline;
 use crate::bench::change::{Comparison, DEFAULT_NOISE_THRESHOLD, Verdict, compare};
 use crate::bench::figure::Figure;
 use crate::bench::result::{BenchResult, StoredResult};
-use crate::bench::slowdown::Slowdown;
+use crate::bench::timing_hooks::TimingHooks;
 use crate::cli::args::environment;
 use crate::cli::stdout::outln;
 use crate::cli::{CliError, CliResult};
@@ -66,7 +66,7 @@ pub struct Run<'a> {
     command: &'static str,
     baseline: Option<StoredResult>,
     /// The bench timing hook.
-    pub slowdown: Slowdown,
+    pub hooks: TimingHooks,
 }
 
 impl<'a> Run<'a> {
@@ -91,7 +91,7 @@ impl<'a> Run<'a> {
             output,
             command,
             baseline: stored,
-            slowdown: Slowdown::from_env().map_err(bad)?,
+            hooks: TimingHooks::from_env().map_err(bad)?,
         })
     }
 

@@ -8,7 +8,7 @@ use clap::Args;
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
-use crate::bench::slowdown::Slowdown;
+use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::scene_bounds;
 use crate::cli::args::{load_scene, parse_size, scene_camera};
 use crate::cli::bench::{Output, Run, figure};
@@ -149,7 +149,7 @@ struct Plan<'a> {
     sets: &'a [RaySet],
     set_variants: &'a [Variant],
     runs: usize,
-    slowdown: &'a Slowdown,
+    hooks: &'a TimingHooks,
 }
 
 /// Builds one engine's units for some rays and variants, as its number.
@@ -176,7 +176,7 @@ impl Plan<'_> {
             for (e, units_of) in engines.iter().enumerate() {
                 all.extend(units_of(rays, variants, e)?);
             }
-            let timings = interleave(&all, self.runs, self.slowdown, rays.count())?;
+            let timings = interleave(&all, self.runs, self.hooks, rays.count())?;
             out.extend(all.iter().zip(timings).map(|(u, t)| (u.engine, kind, t)));
         }
         Ok(out)
@@ -286,7 +286,7 @@ pub fn run(args: SceneArgs) -> CliResult {
         sets: &sets,
         set_variants: &set_variants,
         runs: args.runs as usize,
-        slowdown: &run.slowdown,
+        hooks: &run.hooks,
     };
     // Every engine's structure is built first, so that their variants interleave.
     let mut engines: Vec<Engine> = Vec::new();

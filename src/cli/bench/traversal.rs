@@ -104,7 +104,7 @@ pub fn run(args: TraversalArgs) -> CliResult {
         &args.embree_isa,
         &args.threads,
         args.rounds.max(1),
-        &run.slowdown,
+        &run.hooks,
     )
     .map_err(CliError::Failed)?;
     let figures = rows.iter().flat_map(TraversalRow::figures).collect();

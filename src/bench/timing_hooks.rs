@@ -22,12 +22,12 @@ const WORK_SECONDS: f64 = 1e-9;
 /// The hooks' setting: which variant is slowed, by how much, and whether
 /// samples are timed by their work.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Slowdown {
+pub struct TimingHooks {
     variant: Option<(String, f64)>,
     work_clock: bool,
 }
 
-impl Slowdown {
+impl TimingHooks {
     /// The setting of [`VARIABLE`] and [`CLOCK_VARIABLE`]; an error names a
     /// malformed value.
     pub fn from_env() -> Result<Self, String> {
@@ -79,19 +79,19 @@ mod tests {
 
     #[test]
     fn parses_and_applies() {
-        let s = Slowdown::parse("packet8:2.5").unwrap();
+        let s = TimingHooks::parse("packet8:2.5").unwrap();
         assert_eq!(s.apply("packet8", 7.0, 2.0), 5.0);
         assert_eq!(s.apply("scalar", 7.0, 2.0), 2.0);
-        assert_eq!(Slowdown::default().apply("packet8", 7.0, 2.0), 2.0);
+        assert_eq!(TimingHooks::default().apply("packet8", 7.0, 2.0), 2.0);
         // By the work clock, a sample takes its work's time.
-        let clocked = Slowdown {
+        let clocked = TimingHooks {
             work_clock: true,
             ..s
         };
         assert_eq!(clocked.apply("scalar", 7.0, 2.0), 7.0 * WORK_SECONDS);
         assert_eq!(clocked.apply("packet8", 7.0, 2.0), 2.5 * 7.0 * WORK_SECONDS);
         for bad in ["packet8", "packet8:x", ":2", "packet8:0", "packet8:-1", "a:inf"] {
-            assert!(Slowdown::parse(bad).is_err(), "{bad}");
+            assert!(TimingHooks::parse(bad).is_err(), "{bad}");
         }
     }
 }
