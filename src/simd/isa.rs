@@ -207,9 +207,20 @@ impl Isa {
             // SAFETY: as above.
             #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Avx512 => unsafe { entry::avx512(task) },
-            _ => task.run::<PortableLanes>(),
+            _ => portable(task),
         }
     }
+}
+
+/// [`Isa::Portable`]'s entry point. A function of its own like the x86
+/// levels', rather than inlined into every caller of [`Isa::run`]: the
+/// portable traversal is then compiled once per task, not once per call site
+/// (test crates built at opt-level 1 reuse the library's copy, see
+/// `docs/measurements.md`, "Build time of the test suite"), for one call per
+/// query where it runs (off x86, and on x86 CPUs without SSE4.2).
+#[inline(never)]
+fn portable<T: LevelTask>(task: T) -> T::Output {
+    task.run::<PortableLanes>()
 }
 
 /// The entry point of each x86 level: a task compiled with the level's
