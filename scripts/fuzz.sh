@@ -13,6 +13,7 @@
 # starved past 1 s on an input that takes milliseconds: give it more there, and
 # replay the corpus on a quiet machine with the 1 s limit afterwards
 # (scripts/fuzz.sh 0 replays each target's corpus once and runs nothing new).
+# FUZZ_CODEGEN_UNITS (default 16) is the build's codegen units, see below.
 #
 # Corpora: fuzz/corpus/TARGET (git-ignored, grows from run to run) on top of
 # the seeds: fuzz/seeds/ (committed), scenes/ and tests/data/.
@@ -39,7 +40,12 @@ declare -A max_len=(
 
 # The fuzz build has the portable instruction-set level only (`cfg(fuzzing)`,
 # src/simd/isa.rs): it targets baseline x86-64, as the main build does.
-(cd fuzz && nice -n 19 cargo +nightly fuzz build -O -a >&2)
+# cargo-fuzz compiles in one codegen unit unless told otherwise, which leaves
+# every core but one idle while LLVM works through the library; 16 units
+# build faster, for fuzzers a little slower per input (FUZZ_CODEGEN_UNITS=1
+# for long runs where that matters more than the build).
+(cd fuzz && nice -n 19 cargo +nightly fuzz build -O -a \
+    --codegen-units "${FUZZ_CODEGEN_UNITS:-16}" >&2)
 bin_dir=fuzz/target/x86_64-unknown-linux-gnu/release
 
 work=$(mktemp -d)
