@@ -179,8 +179,8 @@ impl Level for PortableLanes {
 /// Work compiled for every level: [`Isa::run`] calls `run` with the chosen
 /// level's lane types, inside a function compiled for that level. What `run`
 /// calls must be `#[inline(always)]` (and free of closures over SIMD values)
-/// to be compiled with the level's instructions; `tests/bvh/isa.rs` checks
-/// the binary for intrinsics left out of line.
+/// to be compiled with the level's instructions; `tests/cli/inlining.rs`
+/// checks the binary for intrinsics left out of line.
 pub trait LevelTask {
     /// What the work returns.
     type Output;

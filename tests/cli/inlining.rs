@@ -10,9 +10,9 @@
 //!
 //! - At level 1 (the test profile's), LLVM inlines the `#[inline(always)]`
 //!   code but leaves every intrinsic out of line, so the calls show what was
-//!   compiled where: no function of raypack's other than the entry points may
-//!   call an intrinsic beyond baseline x86-64 (SSE, SSE2), and each entry point
-//!   calls only its own level's.
+//!   compiled where: no function other than the entry points may call an
+//!   intrinsic beyond baseline x86-64 (SSE, SSE2), and each entry point calls
+//!   only its own level's.
 //! - At levels 2 and 3 the intrinsics are inlined wherever they can be, so no
 //!   function may call one out of line.
 //!
