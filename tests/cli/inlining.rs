@@ -121,11 +121,7 @@ fn objdump(args: &[&str]) -> String {
 /// The level of an entry point's name (`…simd::isa::entry::avx2>:`), if it is one.
 fn entry_level(function: &str) -> Option<&str> {
     let rest = &function[function.find("simd::isa::entry::")? + "simd::isa::entry::".len()..];
-    Some(
-        rest.split(|c: char| !c.is_ascii_alphanumeric())
-            .next()
-            .unwrap_or(""),
-    )
+    rest.split(|c: char| !c.is_ascii_alphanumeric()).next()
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -147,32 +143,34 @@ fn entry_points_call_no_intrinsic_out_of_line() {
     let mut break_seen = false;
     let mut entries = BTreeSet::new();
     for (function, called) in &calls {
-        let beyond_baseline: Vec<_> = called
-            .iter()
-            .filter(|(module, _)| !BASELINE.contains(&module.as_str()))
-            .collect();
         if function.contains(BREAK) {
-            break_seen |= !beyond_baseline.is_empty();
+            break_seen |= called
+                .iter()
+                .any(|(module, _)| !BASELINE.contains(&module.as_str()));
             continue;
         }
         if ALLOWED.iter().any(|a| function.contains(a)) {
             continue;
         }
-        if let Some(level) = entry_level(function) {
-            entries.insert(level.to_string());
-            let forbidden = forbidden_in(level);
-            let wrong: Vec<_> = called
-                .iter()
-                .filter(|(module, _)| forbidden.iter().any(|f| module.starts_with(f)))
-                .collect();
-            if optimised || !wrong.is_empty() {
-                offenders.push(format!(
-                    "{function} calls {:?}",
-                    if optimised { called.iter().collect() } else { wrong }
-                ));
+        // The calls that break the rule: at levels 2 and 3 any call; at
+        // level 1 an entry point's into a higher level, and any other
+        // function's beyond baseline.
+        let breaking: Vec<_> = match entry_level(function) {
+            Some(level) => {
+                entries.insert(level.to_string());
+                let forbidden = forbidden_in(level);
+                called
+                    .iter()
+                    .filter(|(module, _)| optimised || forbidden.iter().any(|f| module.starts_with(f)))
+                    .collect()
             }
-        } else if optimised || !beyond_baseline.is_empty() {
-            offenders.push(format!("{function} calls {beyond_baseline:?}"));
+            None => called
+                .iter()
+                .filter(|(module, _)| optimised || !BASELINE.contains(&module.as_str()))
+                .collect(),
+        };
+        if !breaking.is_empty() {
+            offenders.push(format!("{function} calls {breaking:?}"));
         }
     }
     assert!(
@@ -187,7 +185,8 @@ fn entry_points_call_no_intrinsic_out_of_line() {
         calls.len()
     );
     if !optimised {
-        // At level 1 every entry point calls its intrinsics, so each level is seen.
+        // At level 1 some entry points of every level call intrinsics out
+        // of line (9 of 51 each today), so each level is seen.
         assert_eq!(
             entries,
             BTreeSet::from(["avx2", "avx512", "sse42"].map(String::from)),
