@@ -1,0 +1,201 @@
+//! Every traversal path of both engines on one ray kind, interleaved round by
+//! round in one process (so drift of a shared machine hits them alike): raypack's
+//! single rays, 8-ray and 16-ray packets, and Embree's `rtc*1`, `rtc*8` and
+//! `rtc*16` at `isa=avx2` and at its default ISA; medians in Mrays/s. `bench
+//! traversal` times single rays and 8-ray packets only.
+//!
+//! ```text
+//! cargo run --release --features embree --example paths_side_by_side -- [--rounds 7] [--size 1024] [--threads 1] [--cold-warm] SCENE KIND
+//! ```
+//!
+//! KIND is a `bench traversal` ray kind (`primary`, `shadow`, `ao`, `diffuse`,
+//! `random`). With `--cold-warm` it times single rays instead, each batch of 16
+//! traced twice in a row: the first pass finds what the batch before it left in
+//! the caches, the second finds the batch's own nodes and leaves in L1, so the
+//! difference is what the batch's loads from L2 and beyond cost a ray.
+//! Exit code 2 on bad arguments or a scene that does not load.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Parser;
+use raypack::accel::Accel;
+use raypack::accel::stats::NoStats;
+use raypack::bench::rays::{Query, RayKind, RaySet};
+use raypack::bench::traversal::{
+    Builder, EngineVariant, Structure, TraversalSetup, scene_bounds, trace_packets, trace_packets16,
+    trace_single,
+};
+use raypack::engine::{EmbreeIsa, Engine};
+use raypack::ray::Hit;
+use raypack::scene::generate::random::framing_camera;
+
+// The arrays a traversal reads go on huge pages, as in `raypack` and the benches.
+#[global_allocator]
+static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
+
+/// Options.
+#[derive(Parser, Debug)]
+struct Args {
+    /// Scene file.
+    scene: PathBuf,
+    /// Ray kind.
+    #[arg(value_enum)]
+    kind: RayKind,
+    /// Timed rounds (each traces every path once), after one untimed round.
+    #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    rounds: u32,
+    /// Square image edge of the primary rays, in pixels.
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(16..=16384))]
+    size: u32,
+    /// Threads of the rayon pool (and of Embree's builds).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: u32,
+    /// Time each 16-ray batch of single rays twice in a row instead.
+    #[arg(long)]
+    cold_warm: bool,
+}
+
+/// The three paths each engine is timed on.
+const PATHS: [&str; 3] = ["single", "packet8", "packet16"];
+
+/// Trace `set` through `structure` on path `path` (an index into [`PATHS`]).
+fn trace(structure: &Structure, set: &RaySet, path: usize) -> u64 {
+    match (structure, path) {
+        (Structure::Raypack(b), 0) => trace_single(b, set),
+        (Structure::Raypack(b), 1) => trace_packets(b, set),
+        (Structure::Raypack(b), _) => trace_packets16(b, set),
+        (Structure::Embree(e), 0) => trace_single(e, set),
+        (Structure::Embree(e), 1) => trace_packets(e, set),
+        (Structure::Embree(e), _) => trace_packets16(e, set),
+    }
+}
+
+/// One 16-ray batch's single rays through `accel` with `query`.
+fn batch(accel: &impl Accel, rays: &[raypack::ray::Ray], query: Query) -> u32 {
+    let all = u32::MAX >> (32 - rays.len());
+    match query {
+        Query::Nearest => {
+            let mut hits = [Hit::none(&rays[0]); 16];
+            accel.intersect_each_counted(rays, all, &mut hits, &mut NoStats);
+            hits.iter().filter(|h| h.is_hit()).count() as u32
+        }
+        Query::AnyHit => accel.occluded_each_counted(rays, all, &mut NoStats),
+    }
+}
+
+/// Nanoseconds a ray of `set` takes cold and warm (see the module doc), over `rounds` passes.
+fn cold_warm(structure: &Structure, set: &RaySet, rounds: u32) -> (f64, f64) {
+    let query = set.kind.query();
+    let (mut cold, mut warm) = (0.0, 0.0);
+    for _ in 0..rounds {
+        for rays in set.rays.chunks(16) {
+            for seconds in [&mut cold, &mut warm] {
+                let start = Instant::now();
+                std::hint::black_box(match structure {
+                    Structure::Raypack(b) => batch(b, rays, query),
+                    Structure::Embree(e) => batch(e, rays, query),
+                });
+                *seconds += start.elapsed().as_secs_f64();
+            }
+        }
+    }
+    let rays = f64::from(rounds) * set.rays.len() as f64;
+    (cold / rays * 1e9, warm / rays * 1e9)
+}
+
+fn run(args: &Args) -> anyhow::Result<()> {
+    let scene = raypack::scene::load(&args.scene)?;
+    let camera = framing_camera(scene_bounds(&scene.primitives), args.size, args.size);
+    let setup = TraversalSetup::new("scene", scene.primitives, &camera, None, 262_144, &[args.kind]);
+    let set = setup
+        .set(args.kind)
+        .ok_or_else(|| anyhow::anyhow!("no rays of kind {}", args.kind.name()))?;
+    let threads = args.threads as usize;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let builder = Builder::new(
+        &[Engine::Raypack, Engine::Embree],
+        &[EmbreeIsa::Avx2, EmbreeIsa::Default],
+        threads,
+    )?;
+    let variants = [
+        EngineVariant {
+            engine: Engine::Raypack,
+            embree_isa: None,
+        },
+        EngineVariant {
+            engine: Engine::Embree,
+            embree_isa: Some(EmbreeIsa::Avx2),
+        },
+        EngineVariant {
+            engine: Engine::Embree,
+            embree_isa: Some(EmbreeIsa::Default),
+        },
+    ];
+    let structures = variants
+        .iter()
+        .map(|&v| pool.install(|| builder.build(v, &setup.prims)))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    println!(
+        "{} rays of kind {}, {threads} thread(s)",
+        set.rays.len(),
+        args.kind.name()
+    );
+    if args.cold_warm {
+        for (variant, structure) in variants.iter().zip(&structures) {
+            let (cold, warm) = pool.install(|| cold_warm(structure, set, args.rounds));
+            println!(
+                "{:16} single rays: cold {cold:6.1} ns, warm {warm:6.1} ns a ray",
+                variant.name()
+            );
+        }
+        return Ok(());
+    }
+    // Every (structure, path) pair once a round, backwards in odd rounds.
+    let cases: Vec<(usize, usize)> = (0..structures.len())
+        .flat_map(|s| (0..PATHS.len()).map(move |p| (s, p)))
+        .collect();
+    let mut samples = vec![Vec::new(); cases.len()];
+    for round in 0..=args.rounds {
+        let mut order: Vec<usize> = (0..cases.len()).collect();
+        if round % 2 == 1 {
+            order.reverse();
+        }
+        for i in order {
+            let (s, p) = cases[i];
+            let start = Instant::now();
+            std::hint::black_box(pool.install(|| trace(&structures[s], set, p)));
+            if round > 0 {
+                samples[i].push(set.rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6);
+            }
+        }
+    }
+    for ((s, p), mut mrays) in cases.into_iter().zip(samples) {
+        mrays.sort_by(f64::total_cmp);
+        let name = format!("{} {}", variants[s].name(), PATHS[p]);
+        println!("{name:26} {:7.2} Mrays/s", mrays[mrays.len() / 2]);
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args = match Args::try_parse() {
+        Ok(args) => args,
+        Err(e) if !e.use_stderr() => {
+            let _ = e.print();
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(2);
+        }
+    };
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
