@@ -20,15 +20,13 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use raypack::accel::Accel;
-use raypack::accel::stats::NoStats;
-use raypack::bench::rays::{Query, RayKind, RaySet};
+use raypack::bench::rays::{RayKind, RaySet};
 use raypack::bench::traversal::{
-    Builder, EngineVariant, Structure, TraversalSetup, scene_bounds, trace_packets, trace_packets16,
-    trace_single,
+    Builder, EngineVariant, Structure, TraversalSetup, scene_bounds, trace_batch, trace_packets,
+    trace_packets16, trace_single,
 };
 use raypack::engine::{EmbreeIsa, Engine};
-use raypack::ray::Hit;
+use raypack::render::batch::BATCH;
 use raypack::scene::generate::random::framing_camera;
 
 // The arrays a traversal reads go on huge pages, as in `raypack` and the benches.
@@ -72,30 +70,17 @@ fn trace(structure: &Structure, set: &RaySet, path: usize) -> u64 {
     }
 }
 
-/// One 16-ray batch's single rays through `accel` with `query`.
-fn batch(accel: &impl Accel, rays: &[raypack::ray::Ray], query: Query) -> u32 {
-    let all = u32::MAX >> (32 - rays.len());
-    match query {
-        Query::Nearest => {
-            let mut hits = [Hit::none(&rays[0]); 16];
-            accel.intersect_each_counted(rays, all, &mut hits, &mut NoStats);
-            hits.iter().filter(|h| h.is_hit()).count() as u32
-        }
-        Query::AnyHit => accel.occluded_each_counted(rays, all, &mut NoStats),
-    }
-}
-
 /// Nanoseconds a ray of `set` takes cold and warm (see the module doc), over `rounds` passes.
 fn cold_warm(structure: &Structure, set: &RaySet, rounds: u32) -> (f64, f64) {
     let query = set.kind.query();
     let (mut cold, mut warm) = (0.0, 0.0);
     for _ in 0..rounds {
-        for rays in set.rays.chunks(16) {
+        for rays in set.rays.chunks(BATCH) {
             for seconds in [&mut cold, &mut warm] {
                 let start = Instant::now();
                 std::hint::black_box(match structure {
-                    Structure::Raypack(b) => batch(b, rays, query),
-                    Structure::Embree(e) => batch(e, rays, query),
+                    Structure::Raypack(b) => trace_batch(b, rays, query),
+                    Structure::Embree(e) => trace_batch(e, rays, query),
                 });
                 *seconds += start.elapsed().as_secs_f64();
             }

@@ -31,7 +31,7 @@ use crate::camera::Camera;
 use crate::engine::{EmbreeIsa, Engine};
 use crate::geometry::Primitive;
 use crate::packet::RayPacket;
-use crate::ray::Hit;
+use crate::ray::{Hit, Ray};
 use crate::render::batch::BATCH;
 use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
 use crate::simd::SimdFloat;
@@ -138,23 +138,26 @@ pub fn trace_single(accel: &impl Accel, set: &RaySet) -> u64 {
         .par_chunks(TILE_RAYS)
         .map(|tile| {
             tile.chunks(BATCH)
-                .map(|rays| {
-                    let all = u32::MAX >> (32 - rays.len());
-                    match query {
-                        Query::Nearest => {
-                            // Every record is overwritten: the first ray's will do.
-                            let mut hits = [Hit::none(&rays[0]); BATCH];
-                            accel.intersect_each_counted(rays, all, &mut hits, &mut NoStats);
-                            hits[..rays.len()].iter().filter(|h| h.is_hit()).count() as u64
-                        }
-                        Query::AnyHit => {
-                            u64::from(accel.occluded_each_counted(rays, all, &mut NoStats).count_ones())
-                        }
-                    }
-                })
+                .map(|rays| trace_batch(accel, rays, query))
                 .sum::<u64>()
         })
         .sum()
+}
+
+/// Trace one batch of up to [`BATCH`] single rays (at least one) with
+/// `query`, in one call of `accel`; returns how many hit.
+#[inline]
+pub fn trace_batch(accel: &impl Accel, rays: &[Ray], query: Query) -> u64 {
+    let all = u32::MAX >> (32 - rays.len());
+    match query {
+        Query::Nearest => {
+            // Every record is overwritten: the first ray's will do.
+            let mut hits = [Hit::none(&rays[0]); BATCH];
+            accel.intersect_each_counted(rays, all, &mut hits, &mut NoStats);
+            hits[..rays.len()].iter().filter(|h| h.is_hit()).count() as u64
+        }
+        Query::AnyHit => u64::from(accel.occluded_each_counted(rays, all, &mut NoStats).count_ones()),
+    }
 }
 
 /// Trace the 8-ray packets of `set` with its kind's query, tiles spread over
