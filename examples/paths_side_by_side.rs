@@ -50,7 +50,8 @@ struct Args {
     /// Threads of the rayon pool (and of Embree's builds).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: u32,
-    /// Time each 16-ray batch of single rays twice in a row instead.
+    /// Time each 16-ray batch of single rays twice in a row instead (on one
+    /// thread: `--threads` then sets the builds' threads only).
     #[arg(long)]
     cold_warm: bool,
 }
@@ -93,6 +94,7 @@ fn cold_warm(structure: &Structure, set: &RaySet, rounds: u32) -> (f64, f64) {
 fn run(args: &Args) -> anyhow::Result<()> {
     let scene = raypack::scene::load(&args.scene)?;
     let camera = framing_camera(scene_bounds(&scene.primitives), args.size, args.size);
+    // 2¹⁸ random rays, as `scripts/report.sh` measures them.
     let setup = TraversalSetup::new("scene", scene.primitives, &camera, None, 262_144, &[args.kind]);
     let set = setup
         .set(args.kind)
