@@ -25,7 +25,8 @@ use crate::simd::SimdFloat;
 pub const INVALID_ID: u32 = sys::RTC_INVALID_GEOMETRY_ID;
 
 /// The defaults of Embree's inline `rtcInitIntersectArguments`: incoherent
-/// rays, every feature enabled, no context (Embree makes its own), no filter,
+/// rays (packet queries mark coherent packets coherent, see `EmbreeScene`),
+/// every feature enabled, no context (Embree makes its own), no filter,
 /// geometry callbacks taken from the geometry.
 pub fn intersect_arguments() -> sys::RTCIntersectArguments {
     sys::RTCIntersectArguments {

@@ -22,6 +22,7 @@ use glam::{Mat4, Vec3};
 use embree4_sys as sys;
 
 use crate::accel::Accel;
+use crate::accel::bvh::traverse_packet::is_coherent;
 use crate::accel::stats::Counter;
 use crate::embree::EmbreeError;
 use crate::embree::denormals::flush_denormals;
@@ -432,6 +433,7 @@ impl EmbreeScene {
         }
         flush_denormals();
         let mut args = intersect_arguments();
+        args.flags = packet_flags(rays);
         // SAFETY: a committed scene.
         unsafe { record.intersect(self.scene.raw(), &mut args) };
         let mut prim = <F::U32 as SimdU32>::Array::default();
@@ -464,6 +466,7 @@ impl EmbreeScene {
         }
         flush_denormals();
         let mut args = occluded_arguments();
+        args.flags = packet_flags(rays);
         // SAFETY: a committed scene.
         unsafe { record.occluded(self.scene.raw(), &mut args) };
         let bits = record
@@ -472,6 +475,24 @@ impl EmbreeScene {
             .enumerate()
             .fold(0, |bits, (i, &t)| bits | (((t == f32::NEG_INFINITY) as u32) << i));
         F::mask_from_bits(bits & record.valid_bits())
+    }
+}
+
+/// The query flags for a packet: `RTC_RAY_QUERY_FLAG_COHERENT` where every
+/// lane points the way of the others ([`is_coherent`], the test raypack's own
+/// packet traversal makes), as Embree's documentation asks of coherent rays
+/// (primary rays, shadow rays to one light), so that Embree uses its packet
+/// traversal for them; incoherent otherwise. Measured on the dragon's primary
+/// rays (AMD EPYC Zen 5, 1 thread), Embree's 8-ray packets ran 1.1–1.4× as
+/// fast with the flag, 1.4–2.8× on a 10³- and a 10⁶-triangle mesh, and its
+/// ambient-occlusion and diffuse packets 0.65–0.75× as fast had they carried it
+/// too; shadow packets read the same either way.
+#[inline]
+fn packet_flags<F: SimdFloat>(rays: &RayPacket<F>) -> sys::RTCRayQueryFlags {
+    if is_coherent(rays) {
+        sys::RTCRayQueryFlags::COHERENT
+    } else {
+        sys::RTCRayQueryFlags::INCOHERENT
     }
 }
 
