@@ -76,6 +76,21 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
 
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
+        let bits = (mask & self.pending).bitmask();
+        if leaf.tested_lane_by_lane(bits.count_ones()) {
+            for lane in lane_bits(bits) {
+                stats.lane(lane);
+                let ray = self.rays.ray(lane);
+                let mut hit = Hit::none(&ray);
+                if bvh
+                    .leaves
+                    .intersect::<F::Lanes8, S>(leaf.clone(), &ray, &mut hit, true, stats)
+                {
+                    self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+                }
+            }
+            return;
+        }
         self.rays.active = mask & self.pending;
         for prim in bvh.leaves.items(leaf) {
             if self.rays.active.none() {

@@ -263,6 +263,21 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
 
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
+        let bits = mask.bitmask();
+        if leaf.tested_lane_by_lane(bits.count_ones()) {
+            for lane in lane_bits(bits) {
+                stats.lane(lane);
+                let ray = self.rays.ray(lane);
+                let mut hit = self.hits.hit(lane);
+                if bvh
+                    .leaves
+                    .intersect::<F::Lanes8, S>(leaf.clone(), &ray, &mut hit, false, stats)
+                {
+                    self.hits.set_hit(lane, &hit);
+                }
+            }
+            return;
+        }
         self.rays.active = mask;
         for prim in bvh.leaves.items(leaf) {
             stats.packet_prim(mask);
