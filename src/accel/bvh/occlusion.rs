@@ -76,22 +76,24 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
 
     #[inline(always)]
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
-        let bits = (mask & self.pending).bitmask();
+        let active = mask & self.pending;
+        let bits = active.bitmask();
         if leaf.tested_lane_by_lane(bits.count_ones()) {
+            // Each lane's own single-ray query, as in `finish_lanes`.
             for lane in lane_bits(bits) {
                 stats.lane(lane);
                 let ray = self.rays.ray(lane);
-                let mut hit = Hit::none(&ray);
-                if bvh
-                    .leaves
-                    .intersect::<F::Lanes8, S>(leaf.clone(), &ray, &mut hit, true, stats)
-                {
+                let mut query = AnyHit {
+                    ray: &ray,
+                    hit: Hit::none(&ray),
+                };
+                if query.leaf::<F::Lanes8, S>(bvh, leaf.clone(), stats) {
                     self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
                 }
             }
             return;
         }
-        self.rays.active = mask & self.pending;
+        self.rays.active = active;
         for prim in bvh.leaves.items(leaf) {
             if self.rays.active.none() {
                 break;

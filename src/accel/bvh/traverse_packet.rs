@@ -29,7 +29,7 @@ use glam::Vec3;
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::node::{NodeId, ROOT};
-use crate::accel::bvh::query::{INTERLEAVED, PacketQuery, lane_bits, lane_groups};
+use crate::accel::bvh::query::{INTERLEAVED, PacketQuery, RayQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
 use crate::accel::bvh::traverse_hybrid::{LaneWalk, traverse_hybrid};
@@ -265,16 +265,17 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         let bits = mask.bitmask();
         if leaf.tested_lane_by_lane(bits.count_ones()) {
+            // Each lane's own single-ray query, as in `finish_lanes`.
             for lane in lane_bits(bits) {
                 stats.lane(lane);
                 let ray = self.rays.ray(lane);
                 let mut hit = self.hits.hit(lane);
-                if bvh
-                    .leaves
-                    .intersect::<F::Lanes8, S>(leaf.clone(), &ray, &mut hit, false, stats)
-                {
-                    self.hits.set_hit(lane, &hit);
-                }
+                let mut query = Nearest {
+                    ray: &ray,
+                    hit: &mut hit,
+                };
+                query.leaf::<F::Lanes8, S>(bvh, leaf.clone(), stats);
+                self.hits.set_hit(lane, &hit);
             }
             return;
         }
