@@ -41,6 +41,7 @@
 
 pub mod build_sah;
 pub mod dispatch;
+pub mod lanes;
 pub mod leaf;
 pub mod leaf_store;
 pub mod node;

@@ -3,26 +3,22 @@
 //! [`traverse_packet`](super::traverse_packet) with a query that stops a ray at
 //! the first primitive it hits anywhere in `[t_min, t_max]`.
 
-use glam::Vec3;
-
 use crate::accel::bvh::Bvh;
+use crate::accel::bvh::lanes::leaf_lane_by_lane;
 use crate::accel::bvh::leaf::LeafRef;
-
-use crate::accel::bvh::query::{INTERLEAVED, PacketQuery, RayQuery, lane_bits, lane_groups};
-use crate::accel::bvh::ray_box::SlabRay;
+use crate::accel::bvh::query::{LaneQueries, PacketQuery, RayQuery};
 use crate::accel::bvh::traverse_packet::trace_packet;
-use crate::accel::bvh::traverse_single::{trace, traverse, traverse_interleaved};
-use crate::accel::bvh::wide::{ChildRef, TreeWidth};
+use crate::accel::bvh::traverse_single::trace;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
 
 /// The any-hit query of one ray.
-struct AnyHit<'a> {
+pub struct AnyHit<'a> {
     ray: &'a Ray,
     /// A scratch record (kernels need one); its t stays `t_max` until the end.
-    hit: Hit,
+    hit: &'a mut Hit,
 }
 
 impl RayQuery for AnyHit<'_> {
@@ -36,7 +32,7 @@ impl RayQuery for AnyHit<'_> {
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
         bvh.leaves
-            .intersect::<N, S>(leaf, self.ray, &mut self.hit, true, stats)
+            .intersect::<N, S>(leaf, self.ray, self.hit, true, stats)
     }
 }
 
@@ -44,11 +40,8 @@ impl RayQuery for AnyHit<'_> {
 /// instruction set's 8-lane type `N`.
 #[inline(always)]
 pub fn occluded<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
-    let mut query = AnyHit {
-        ray,
-        hit: Hit::none(ray),
-    };
-    trace::<N, _, S>(bvh, ray, &mut query, stats)
+    let mut hit = Hit::none(ray);
+    trace::<N, _, S>(bvh, ray, &mut AnyHit { ray, hit: &mut hit }, stats)
 }
 
 /// The any-hit query of a packet: occluded lanes leave the packet.
@@ -59,6 +52,32 @@ struct AnyHitPacket<F: SimdFloat> {
     hits: HitPacket<F>,
     /// The lanes not yet found occluded.
     pending: F,
+}
+
+impl<F: SimdFloat> LaneQueries<F> for AnyHitPacket<F> {
+    type Lane<'a> = AnyHit<'a>;
+
+    #[inline(always)]
+    fn rays(&self) -> &RayPacket<F> {
+        &self.rays
+    }
+
+    #[inline(always)]
+    fn start(&self, _: usize, ray: &Ray) -> Hit {
+        Hit::none(ray)
+    }
+
+    #[inline(always)]
+    fn query<'a>(ray: &'a Ray, hit: &'a mut Hit) -> AnyHit<'a> {
+        AnyHit { ray, hit }
+    }
+
+    #[inline(always)]
+    fn end(&mut self, lane: usize, _: &Hit, occluded: bool) {
+        if occluded {
+            self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
+        }
+    }
 }
 
 impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
@@ -79,18 +98,7 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
         let active = mask & self.pending;
         let bits = active.bitmask();
         if leaf.tested_lane_by_lane(bits.count_ones()) {
-            // Each lane's own single-ray query, as in `finish_lanes`.
-            for lane in lane_bits(bits) {
-                stats.lane(lane);
-                let ray = self.rays.ray(lane);
-                let mut query = AnyHit {
-                    ray: &ray,
-                    hit: Hit::none(&ray),
-                };
-                if query.leaf::<F::Lanes8, S>(bvh, leaf.clone(), stats) {
-                    self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
-                }
-            }
+            leaf_lane_by_lane(self, bvh, leaf, bits, stats);
             return;
         }
         self.rays.active = active;
@@ -103,52 +111,6 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
             let hit = self.hits.hit_mask();
             self.pending = self.pending.and_not(hit);
             self.rays.active = self.rays.active.and_not(hit);
-        }
-    }
-
-    #[inline(always)]
-    fn finish_lanes<W: TreeWidth, S: Counter>(
-        &mut self,
-        bvh: &Bvh,
-        lanes: u32,
-        start: ChildRef,
-        interleaved: bool,
-        stats: &mut S,
-    ) {
-        if !interleaved {
-            for lane in lane_bits(lanes) {
-                stats.lane(lane);
-                let ray = self.rays.ray(lane);
-                let mut query = AnyHit {
-                    ray: &ray,
-                    hit: Hit::none(&ray),
-                };
-                if traverse::<F::Lanes8, W, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats) {
-                    self.pending = self.pending.and_not(F::mask_from_bits(1 << lane));
-                }
-            }
-            return;
-        }
-        for (group, count) in lane_groups(lanes) {
-            // (Loops, not closures: SIMD code must inline into the entry point.)
-            let mut rays = [Ray::unbounded(Vec3::ZERO, Vec3::ZERO); INTERLEAVED];
-            for k in 0..count {
-                rays[k] = self.rays.ray(group[k]);
-            }
-            let mut walks: [(usize, SlabRay, AnyHit); INTERLEAVED] = std::array::from_fn(|k| {
-                let ray = &rays[k];
-                let query = AnyHit {
-                    ray,
-                    hit: Hit::none(ray),
-                };
-                (group[k], SlabRay::new(ray), query)
-            });
-            let occluded = traverse_interleaved::<F::Lanes8, W, _, S>(bvh, start, &mut walks[..count], stats);
-            let bits = group[..count]
-                .iter()
-                .enumerate()
-                .fold(0, |bits, (k, lane)| bits | ((occluded >> k & 1) << lane));
-            self.pending = self.pending.and_not(F::mask_from_bits(bits));
         }
     }
 }

@@ -6,8 +6,9 @@
 
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::wide::{ChildRef, TreeWidth};
 use crate::accel::stats::Counter;
+use crate::packet::RayPacket;
+use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
 
 /// What a single-ray traversal does in leaves, and how far it looks.
@@ -25,8 +26,29 @@ pub trait RayQuery {
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool;
 }
 
+/// A packet query whose lanes can each run as a single-ray query: what the
+/// lane-by-lane leaf test of few-lane leaves and the single-ray finish of the
+/// lanes a packet leaves alone need of it (both written once, in
+/// [`lanes`](crate::accel::bvh::lanes), for nearest and any hit).
+pub trait LaneQueries<F: SimdFloat> {
+    /// The single-ray query a lane runs.
+    type Lane<'a>: RayQuery;
+
+    /// The packet's rays.
+    fn rays(&self) -> &RayPacket<F>;
+
+    /// The record lane `lane` (whose ray is `ray`) starts from.
+    fn start(&self, lane: usize, ray: &Ray) -> Hit;
+
+    /// The single-ray query of `ray` keeping its record in `hit`.
+    fn query<'a>(ray: &'a Ray, hit: &'a mut Hit) -> Self::Lane<'a>;
+
+    /// Take lane `lane`'s result back: its record, and whether its query ended early.
+    fn end(&mut self, lane: usize, hit: &Hit, ended_early: bool);
+}
+
 /// What a packet traversal does in leaves, and how far each lane looks.
-pub trait PacketQuery<F: SimdFloat> {
+pub trait PacketQuery<F: SimdFloat>: LaneQueries<F> {
     /// Whether children are visited nearest first (see [`RayQuery::NEAREST_FIRST`]).
     const NEAREST_FIRST: bool = true;
 
@@ -38,21 +60,6 @@ pub trait PacketQuery<F: SimdFloat> {
 
     /// Test the leaf primitives `prims` on the lanes of `mask`.
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
-
-    /// Trace the lanes of the mask `lanes` through the subtree of the wide
-    /// tree of width `W` under `start` (whose box they met) as single rays (reporting each
-    /// to [`Counter::lane`]), with `F`'s 8-lane type: up to [`INTERLEAVED`] at
-    /// once ([`traverse_interleaved`]) with `interleaved`, else one after the other.
-    ///
-    /// [`traverse_interleaved`]: crate::accel::bvh::traverse_single::traverse_interleaved
-    fn finish_lanes<W: TreeWidth, S: Counter>(
-        &mut self,
-        bvh: &Bvh,
-        lanes: u32,
-        start: ChildRef,
-        interleaved: bool,
-        stats: &mut S,
-    );
 }
 
 /// Most rays [`traverse_interleaved`](crate::accel::bvh::traverse_single::traverse_interleaved)
@@ -60,11 +67,10 @@ pub trait PacketQuery<F: SimdFloat> {
 pub const INTERLEAVED: usize = 8;
 
 /// Lanes that walk interleaved rather than one after the other, at least
-/// (where [`PacketQuery::finish_lanes`] is asked to interleave). Two
-/// interleaved walks cost more than their overlap saved: the hybrid
-/// traversal's one- and two-lane subtrees of the dragon's ambient-occlusion
-/// rays went 0.96× as fast as single rays, against 1.14× walked one after the
-/// other.
+/// (where [`finish_lanes`](crate::accel::bvh::lanes::finish_lanes) is asked
+/// to interleave). Two interleaved walks cost more than their overlap saves
+/// (measured on the hybrid traversal's one- and two-lane subtrees of
+/// ambient-occlusion rays).
 pub const INTERLEAVE_FROM: u32 = 3;
 
 /// The lanes of the mask `lanes`, lowest first.

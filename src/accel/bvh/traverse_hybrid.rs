@@ -13,6 +13,7 @@
 //! rays keep to the binary tree ([`traverse_packet`](super::traverse_packet)).
 
 use crate::accel::bvh::Bvh;
+use crate::accel::bvh::lanes::finish_lanes;
 use crate::accel::bvh::query::{INTERLEAVE_FROM, PacketQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
@@ -54,7 +55,7 @@ struct Pending {
 /// says (lanes apart for rays that share no node below the root, see
 /// [`is_scattered`](super::traverse_packet::is_scattered)).
 /// This is the one place packets hand lanes to
-/// [`PacketQuery::finish_lanes`], so the single-ray walk is compiled once
+/// [`finish_lanes`], so the single-ray walk is compiled once
 /// into each packet query's entry point.
 #[inline(always)]
 pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
@@ -83,10 +84,10 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
                 // From the root (all lanes, or too few to share anything):
                 // the single rays' own, wider tree.
                 let interleaved = walk == LaneWalk::ApartInterleaved && bits.count_ones() >= INTERLEAVE_FROM;
-                query.finish_lanes::<RayTreeLanes, S>(bvh, bits, next, interleaved, stats);
+                finish_lanes::<F, Q, RayTreeLanes, S>(query, bvh, bits, next, interleaved, stats);
             } else {
                 // (Never interleaved: two walks overlap too little, see INTERLEAVE_FROM.)
-                query.finish_lanes::<PacketTreeLanes, S>(bvh, bits, next, false, stats);
+                finish_lanes::<F, Q, PacketTreeLanes, S>(query, bvh, bits, next, false, stats);
             }
         } else if next.is_leaf() {
             if !next.is_empty() {

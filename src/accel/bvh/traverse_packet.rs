@@ -10,11 +10,10 @@
 //!   whose hit has come closer than that are dropped when it is popped.
 //! - An incoherent packet ([`is_coherent`]) walks the wide tree instead, as a
 //!   packet while enough lanes share a subtree and as single rays below
-//!   ([`traverse_hybrid`]): on the dragon's ambient-occlusion rays 1.2× as
-//!   fast as tracing its lanes as single rays from the root, which was faster
-//!   than dragging sparse packets down the binary tree. So does every any-hit
-//!   packet, coherent or not (the dragon's shadow rays: 7.5 against 6.3
-//!   Mrays/s down the binary tree; the SPD balls' lose 8%, at 2× Embree's).
+//!   ([`traverse_hybrid`]), faster than tracing its lanes as single rays from
+//!   the root, which was faster than dragging sparse packets down the binary
+//!   tree. So does every any-hit packet, coherent or not (faster on meshes,
+//!   a little slower on sphere scenes).
 //!   Coherent nearest-hit packets never fall back (see [`is_coherent`]).
 //! - A packet of rays from all over the scene ([`is_scattered`]) shares no
 //!   node below the root: its lanes walk the wide tree as single rays,
@@ -28,13 +27,13 @@ use crate::accel::bvh::leaf::LeafRef;
 use glam::Vec3;
 
 use crate::accel::bvh::Bvh;
+use crate::accel::bvh::lanes::leaf_lane_by_lane;
 use crate::accel::bvh::node::{NodeId, ROOT};
-use crate::accel::bvh::query::{INTERLEAVED, PacketQuery, RayQuery, lane_bits, lane_groups};
-use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket, SlabRay};
+use crate::accel::bvh::query::{LaneQueries, PacketQuery};
+use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
 use crate::accel::bvh::traverse_hybrid::{LaneWalk, traverse_hybrid};
-use crate::accel::bvh::traverse_single::{Nearest, traverse, traverse_interleaved};
-use crate::accel::bvh::wide::{ChildRef, TreeWidth};
+use crate::accel::bvh::traverse_single::Nearest;
 use crate::accel::stats::Counter;
 use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
@@ -64,9 +63,8 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
 /// packet's mean direction, as for the primary rays of a pixel block or shadow
 /// rays from nearby points to one light. Such lanes stay together down to the
 /// leaves, where even one or two lanes finish a subtree as a packet faster than
-/// as single rays (measured on primary rays of the dragon: 1.5× faster with no
-/// fallback than with a fallback at 2 lanes), so coherent packets never fall
-/// back; incoherent ones are traced as single rays from the root.
+/// as single rays (measured on primary rays of the dragon against a fallback
+/// at 2 lanes), so coherent packets never fall back; incoherent ones are traced as single rays from the root.
 #[inline(always)]
 pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
     let active = rays.active;
@@ -87,13 +85,9 @@ pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
 /// Scattered packets in trees smaller than this (wide nodes and leaves,
 /// [`Bvh::walked_bytes`]) walk their lanes one after the other rather than
 /// interleaved: interleaved walks hide cache misses, and a tree this small
-/// mostly stays in the caches (2–4× a core's L2 on the Xeon and EPYC machines
-/// seen here), so only their set-up would count. Random rays walked
-/// interleaved ran 0.81× as fast as single rays on `spd_balls.nff` (7,382
-/// spheres) and 0.83× on a 960-triangle mesh, against 1.36× on the dragon and
-/// 1.56× on a 10⁶-triangle mesh (Xeon). In the hybrid traversal, which shares
-/// nothing for them, they ran 0.65–0.74× as fast as single rays on 10³- and
-/// 10⁴-triangle meshes; one after the other, 0.77–0.90× (AMD EPYC).
+/// mostly stays in the caches (a few times a core's L2), so only their
+/// set-up would count: interleaved walks lose to single rays on small scenes
+/// and win on large ones (figures: `docs/measurements.md`, "Constants").
 pub const INTERLEAVE_MIN_BYTES: usize = 4 << 20;
 
 /// Fraction of the scene box's diagonal that the origins of a packet's lanes
@@ -103,10 +97,9 @@ pub const SCATTERED_SPREAD: f32 = 0.25;
 /// True when the active lanes' origins span more than [`SCATTERED_SPREAD`] of
 /// the diagonal of `scene` (the tree's box), as random rays from all over a
 /// scene do. Such lanes share no node below the root, so sharing node tests
-/// (the hybrid traversal) only costs; walked as single rays interleaved, the
-/// dragon's random rays ran 1.3× as fast as single rays (0.88× in the hybrid),
-/// while secondary rays from a pixel block's hit points, which do share their
-/// first nodes, lost 5–10% that way.
+/// (the hybrid traversal) only costs, and walked as single rays interleaved
+/// they beat single rays; secondary rays from a pixel block's hit points,
+/// which do share their first nodes, lose that way.
 #[inline(always)]
 pub fn is_scattered<F: SimdFloat>(rays: &RayPacket<F>, scene: &Aabb) -> bool {
     let active = rays.active;
@@ -250,6 +243,30 @@ pub struct NearestPacket<'a, F: SimdFloat> {
     hits: &'a mut HitPacket<F>,
 }
 
+impl<F: SimdFloat> LaneQueries<F> for NearestPacket<'_, F> {
+    type Lane<'a> = Nearest<'a>;
+
+    #[inline(always)]
+    fn rays(&self) -> &RayPacket<F> {
+        &self.rays
+    }
+
+    #[inline(always)]
+    fn start(&self, lane: usize, _: &Ray) -> Hit {
+        self.hits.hit(lane)
+    }
+
+    #[inline(always)]
+    fn query<'a>(ray: &'a Ray, hit: &'a mut Hit) -> Nearest<'a> {
+        Nearest { ray, hit }
+    }
+
+    #[inline(always)]
+    fn end(&mut self, lane: usize, hit: &Hit, _: bool) {
+        self.hits.set_hit(lane, hit);
+    }
+}
+
 impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     #[inline(always)]
     fn t_max(&self) -> F {
@@ -265,68 +282,13 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S) {
         let bits = mask.bitmask();
         if leaf.tested_lane_by_lane(bits.count_ones()) {
-            // Each lane's own single-ray query, as in `finish_lanes`.
-            for lane in lane_bits(bits) {
-                stats.lane(lane);
-                let ray = self.rays.ray(lane);
-                let mut hit = self.hits.hit(lane);
-                let mut query = Nearest {
-                    ray: &ray,
-                    hit: &mut hit,
-                };
-                query.leaf::<F::Lanes8, S>(bvh, leaf.clone(), stats);
-                self.hits.set_hit(lane, &hit);
-            }
+            leaf_lane_by_lane(self, bvh, leaf, bits, stats);
             return;
         }
         self.rays.active = mask;
         for prim in bvh.leaves.items(leaf) {
             stats.packet_prim(mask);
             bvh.leaves.intersect_packet(prim, &self.rays, self.hits);
-        }
-    }
-
-    #[inline(always)]
-    fn finish_lanes<W: TreeWidth, S: Counter>(
-        &mut self,
-        bvh: &Bvh,
-        lanes: u32,
-        start: ChildRef,
-        interleaved: bool,
-        stats: &mut S,
-    ) {
-        if !interleaved {
-            for lane in lane_bits(lanes) {
-                stats.lane(lane);
-                let ray = self.rays.ray(lane);
-                let mut hit = self.hits.hit(lane);
-                let mut query = Nearest {
-                    ray: &ray,
-                    hit: &mut hit,
-                };
-                traverse::<F::Lanes8, W, _, S>(bvh, start, &SlabRay::new(&ray), &mut query, stats);
-                self.hits.set_hit(lane, &hit);
-            }
-            return;
-        }
-        for (group, count) in lane_groups(lanes) {
-            // (Loops, not closures: SIMD code must inline into the entry point.)
-            let mut rays = [Ray::unbounded(Vec3::ZERO, Vec3::ZERO); INTERLEAVED];
-            let mut hits = [Hit::none(&rays[0]); INTERLEAVED];
-            for k in 0..count {
-                rays[k] = self.rays.ray(group[k]);
-                hits[k] = self.hits.hit(group[k]);
-            }
-            let mut records = hits.iter_mut();
-            let mut walks: [(usize, SlabRay, Nearest); INTERLEAVED] = std::array::from_fn(|k| {
-                let ray = &rays[k];
-                let hit = records.next().expect("one record per walk");
-                (group[k], SlabRay::new(ray), Nearest { ray, hit })
-            });
-            traverse_interleaved::<F::Lanes8, W, _, S>(bvh, start, &mut walks[..count], stats);
-            for (k, &lane) in group[..count].iter().enumerate() {
-                self.hits.set_hit(lane, &hits[k]);
-            }
         }
     }
 }

@@ -1,0 +1,82 @@
+//! A packet's lanes run as single-ray queries, written once for nearest-hit
+//! and any-hit packets ([`LaneQueries`]): the lane-by-lane test of a leaf met
+//! by few lanes ([`leaf_lane_by_lane`]) and the single-ray walk of the lanes a
+//! packet leaves alone below a node ([`finish_lanes`]).
+
+use glam::Vec3;
+
+use crate::accel::bvh::Bvh;
+use crate::accel::bvh::leaf::LeafRef;
+use crate::accel::bvh::query::{INTERLEAVED, LaneQueries, RayQuery, lane_bits, lane_groups};
+use crate::accel::bvh::ray_box::SlabRay;
+use crate::accel::bvh::traverse_single::{traverse, traverse_interleaved};
+use crate::accel::bvh::wide::{ChildRef, TreeWidth};
+use crate::accel::stats::Counter;
+use crate::ray::{Hit, Ray};
+use crate::simd::SimdFloat;
+
+/// Test `leaf` on each lane of the mask `lanes` with the lane's own
+/// single-ray query (reporting each to [`Counter::lane`]).
+#[inline(always)]
+pub fn leaf_lane_by_lane<F: SimdFloat, Q: LaneQueries<F>, S: Counter>(
+    query: &mut Q,
+    bvh: &Bvh,
+    leaf: LeafRef,
+    lanes: u32,
+    stats: &mut S,
+) {
+    for lane in lane_bits(lanes) {
+        stats.lane(lane);
+        let ray = query.rays().ray(lane);
+        let mut hit = query.start(lane, &ray);
+        let ended = Q::query(&ray, &mut hit).leaf::<F::Lanes8, S>(bvh, leaf.clone(), stats);
+        query.end(lane, &hit, ended);
+    }
+}
+
+/// Trace the lanes of the mask `lanes` through the subtree of the wide tree
+/// of width `W` under `start` (whose box they met) as single rays (reporting
+/// each to [`Counter::lane`]), with `F`'s 8-lane type: up to [`INTERLEAVED`]
+/// at once ([`traverse_interleaved`]) with `interleaved`, else one after the other.
+#[inline(always)]
+pub fn finish_lanes<F: SimdFloat, Q: LaneQueries<F>, W: TreeWidth, S: Counter>(
+    query: &mut Q,
+    bvh: &Bvh,
+    lanes: u32,
+    start: ChildRef,
+    interleaved: bool,
+    stats: &mut S,
+) {
+    if !interleaved {
+        for lane in lane_bits(lanes) {
+            stats.lane(lane);
+            let ray = query.rays().ray(lane);
+            let mut hit = query.start(lane, &ray);
+            let slab = SlabRay::new(&ray);
+            let ended =
+                traverse::<F::Lanes8, W, _, S>(bvh, start, &slab, &mut Q::query(&ray, &mut hit), stats);
+            query.end(lane, &hit, ended);
+        }
+        return;
+    }
+    for (group, count) in lane_groups(lanes) {
+        // (Loops, not closures over SIMD values: they must inline into the entry point.)
+        let mut rays = [Ray::unbounded(Vec3::ZERO, Vec3::ZERO); INTERLEAVED];
+        let mut hits = [Hit::none(&rays[0]); INTERLEAVED];
+        for k in 0..count {
+            rays[k] = query.rays().ray(group[k]);
+            hits[k] = query.start(group[k], &rays[k]);
+        }
+        let mut records = hits.iter_mut();
+        let mut walks: [(usize, SlabRay, Q::Lane<'_>); INTERLEAVED] = std::array::from_fn(|k| {
+            let ray = &rays[k];
+            let hit = records.next().expect("one record per walk");
+            (group[k], SlabRay::new(ray), Q::query(ray, hit))
+        });
+        let ended = traverse_interleaved::<F::Lanes8, W, _, S>(bvh, start, &mut walks[..count], stats);
+        drop(walks);
+        for (k, &lane) in group[..count].iter().enumerate() {
+            query.end(lane, &hits[k], ended >> k & 1 == 1);
+        }
+    }
+}
