@@ -8,8 +8,8 @@
 //! intervals do not overlap.
 //!
 //! Each interval describes one run, and a shared machine also moves between
-//! runs: on a 2-vCPU VM beside other jobs, two runs of one build a few seconds
-//! apart differed by 3% on 4 of 40 kernel figures whose intervals were ±0.5%.
+//! runs: on a shared VM, two runs of one build a few seconds apart differ by
+//! more than their intervals on some figures.
 //! So, like criterion's noise threshold, a change is reported only when its
 //! whole interval lies beyond ± a threshold (5% by default, the same reach
 //! that flags a figure as noisy); `excludes_zero` keeps the bare statistical

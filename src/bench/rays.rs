@@ -141,11 +141,10 @@ impl RaySet {
     /// The set with room for at least [`ADVISED_BYTES`] in each array, so
     /// that a binary on [`HugePageAlloc`](crate::huge_pages::HugePageAlloc)
     /// holds every set on huge pages, however few its rays. The timing loops
-    /// read a set over and over, and on the VMs this project measures on, a
-    /// set of 2 MiB arrays from `malloc` (4 KiB pages; 64k rays) traced
-    /// shadow rays 2–5× slower than a set of 256k rays on huge pages, for
+    /// read a set over and over, and on the VMs this project measures on,
+    /// sets on 4 KiB pages from `malloc` traced several times slower, for
     /// every engine, most of the time spent on the first load of each ray
-    /// (docs/measurements.md, "Small ray sets read slowly on this VM").
+    /// (docs/measurements.md, "Constants").
     fn on_huge_pages(mut self) -> Self {
         fn reserve<T>(v: &mut Vec<T>) {
             let least = ADVISED_BYTES.div_ceil(size_of::<T>().max(1));

@@ -482,11 +482,9 @@ impl EmbreeScene {
 /// lane points the way of the others ([`is_coherent`], the test raypack's own
 /// packet traversal makes), as Embree's documentation asks of coherent rays
 /// (primary rays, shadow rays to one light), so that Embree uses its packet
-/// traversal for them; incoherent otherwise. Measured on the dragon's primary
-/// rays (AMD EPYC Zen 5, 1 thread), Embree's 8-ray packets ran 1.1–1.4× as
-/// fast with the flag, 1.4–2.8× on a 10³- and a 10⁶-triangle mesh, and its
-/// ambient-occlusion and diffuse packets 0.65–0.75× as fast had they carried it
-/// too; shadow packets read the same either way.
+/// traversal for them; incoherent otherwise. Embree's coherent packets run
+/// faster with the flag and its incoherent ones slower (figures:
+/// `docs/measurements.md`, "Constants").
 #[inline]
 fn packet_flags<F: SimdFloat>(rays: &RayPacket<F>) -> sys::RTCRayQueryFlags {
     if is_coherent(rays) {

@@ -37,14 +37,12 @@ pub struct BuildOptions {
     pub bins: usize,
     /// Largest leaf the SAH may choose; larger nodes are always split.
     /// 16 by default (two blocks of 8), 4 for small scenes
-    /// ([`BuildOptions::for_primitives`]): on the dragon (1 thread, 512² rays,
-    /// best of 10 interleaved) leaves of up to 16 traced 1.06× (random) to
-    /// 1.29× (diffuse packets) as fast as one-block leaves, 16 and 32 alike,
-    /// and the build is faster.
+    /// ([`BuildOptions::for_primitives`]): on large meshes leaves of up to 16
+    /// traced faster than one-block leaves on every ray kind, 16 and 32 alike,
+    /// and the build is faster (figures: `docs/measurements.md`, "Constants").
     pub max_leaf_size: usize,
     /// SAH cost of visiting a node, relative to… (2 by default, 1 for small
-    /// scenes: measured on the dragon and a 10⁶-triangle mesh, 1 to 4 trace
-    /// within noise of each other with block leaves)
+    /// scenes: with block leaves, 1 to 4 trace within noise of each other)
     pub traversal_cost: f32,
     /// …the cost of one leaf test, of up to `block_size` primitives.
     pub intersection_cost: f32,
@@ -68,15 +66,10 @@ impl Default for BuildOptions {
 /// cost of 1 ([`BuildOptions::for_primitives`]).
 ///
 /// A small tree stays in the caches, so a ray's time goes into tests rather
-/// than loads, and small leaves save the tests: on 10⁴ and 10⁵-triangle
-/// meshes (AMD EPYC, 1 thread, 1024² pixels, two runs each) packets of
-/// shadow rays traced 1.8× and 1.5× as fast as with leaves of up to 16,
-/// ambient occlusion 1.4× and 1.3×, diffuse bounces 1.5× and 1.3×, primary
-/// rays 1.5× and 1.1×. At 3·10⁵ triangles (a tree of some 20 MiB, most of
-/// the machines' last-level cache) the two traced alike, and on the dragon
-/// and a 10⁶-triangle mesh small leaves lost 14–27% on every ray kind and
-/// built 1.5–2.6× slower: there the loads of more nodes cost more than the
-/// tests saved.
+/// than loads, and small leaves save the tests; near this size (a tree about
+/// the size of a last-level cache) the two trace alike, and above it the
+/// loads of more nodes cost more than the tests saved (figures:
+/// `docs/measurements.md`, "Constants").
 pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 17;
 
 impl BuildOptions {
@@ -224,8 +217,8 @@ impl PrimRef {
     /// (it multiplies it by ½ for the centroid where nothing else needs the
     /// box): neither that lane nor what is made of it may be subnormal, whose
     /// arithmetic takes a microcode assist of a hundred cycles or more (the
-    /// build ran 3× slower with raw indices, and as slow with indices read as
-    /// the smallest normals, half of which is subnormal). Hence the index is
+    /// build ran several times slower with raw indices, and as slow with
+    /// indices read as the smallest normals, half of which is subnormal). Hence the index is
     /// stored as the bits of a float of at least 1 ([`ID_BIAS`]), for indices
     /// below 2³⁰; the next 2²³ read as infinities and NaNs (no assist either),
     /// and beyond those a few are subnormal again: slower, never wrong.

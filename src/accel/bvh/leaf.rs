@@ -108,10 +108,9 @@ pub enum LeafRef {
 /// triangle whatever the lanes taking part, the block kernel one per lane and
 /// block, and a lane's test of a block costs about two packet tests. Where
 /// packets meet a leaf with few lanes (the edges of a primary packet's
-/// footprint, shadow rays), on the dragon and a 10⁶-triangle mesh (AMD EPYC
-/// Zen 5, 1 thread) primary packets ran 1.1–1.35× as fast and shadow
-/// packets 1.05–1.2×, 10³–10⁵-triangle meshes within the spread; sphere
-/// leaves lost 10% on `spd_balls.nff` and stay packet-wise.
+/// footprint, shadow rays), primary and shadow packets of large meshes ran
+/// faster so, small meshes alike; sphere leaves lost and stay packet-wise
+/// (figures: `docs/measurements.md`, "Constants").
 pub const LANE_BLOCK_COST: usize = 2;
 
 impl LeafRef {

@@ -11,13 +11,12 @@
 //!   incoherent ray waits on each node it goes to, and 16-wide nodes make
 //!   fewer of those waits than 8-wide ones (the dragon's tree is about
 //!   log₁₆ rather than log₈ of its 70,000 leaves deep). A node is tested in
-//!   halves of the instruction set's 8-lane type, which overlap. On the
-//!   dragon and a 10⁶-triangle mesh (AMD EPYC, 1 thread) single rays of
-//!   every kind ran 11–18% faster than on 8-wide nodes;
+//!   halves of the instruction set's 8-lane type, which overlap; on large
+//!   meshes single rays of every kind ran faster than on 8-wide nodes;
 //! - packets walk an 8-wide tree ([`PacketTreeLanes`]) together and hand the
 //!   lanes they leave to single-ray walks of the same tree
 //!   (`traverse_hybrid`): a packet tests a node's children one by one, and
-//!   on 16-wide nodes its packets ran 3–15% slower.
+//!   on 16-wide nodes its packets ran slower.
 //!
 //! The widths are the same on every machine, so the trees do not depend on
 //! the instruction set they are traced with.
