@@ -1,8 +1,11 @@
 //! The module layers of ARCHITECTURE.md, enforced: a module of `src/` uses
 //! only modules of lower layers (`crate::NAME` paths in its code, its doc
-//! comments and its `#[cfg(test)]` module excepted), and a subcommand of
-//! `src/cli/` uses only `cli::args`, `cli::stdout` and `cli`'s error types,
-//! never another subcommand.
+//! comments and its `#[cfg(test)]` module excepted), a subcommand of
+//! `src/cli/` uses only `cli::args`, `cli::stdout` and `cli::error`,
+//! never another subcommand, and no two files use each other at any depth
+//! (`crate::`, `super::`, `self::` and child-module paths alike; a parent and
+//! its child count like any two files). A `super::` path inside an inline
+//! module is read from the file's module: write `crate::` paths there.
 
 use std::path::{Path, PathBuf};
 
@@ -94,10 +97,10 @@ fn no_module_uses_a_module_above_it() {
                         let name = &sub[..sub
                             .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
                             .unwrap_or(sub.len())];
-                        let allowed = ["args", "stdout", "CliError", "CliResult", ""];
-                        let is_mod = rel
-                            .file_name()
-                            .is_some_and(|f| f == "mod.rs" || f == "args.rs" || f == "stdout.rs");
+                        let allowed = ["args", "stdout", "error", ""];
+                        let is_mod = rel.file_name().is_some_and(|f| {
+                            f == "mod.rs" || f == "args.rs" || f == "stdout.rs" || f == "error.rs"
+                        });
                         if !is_mod
                             && !allowed.contains(&name)
                             && name != rel.file_stem().unwrap().to_string_lossy()
@@ -153,9 +156,42 @@ fn module_path(src: &Path, file: &Path) -> String {
     parts.join("::")
 }
 
-/// Every full path a text names after `crate::`, with `{…}` groups (nested,
-/// across lines) expanded: `crate::a::{b, c::D}` → `a::b`, `a::c::D`.
-fn used_paths(text: &str) -> Vec<String> {
+/// The text of a file's code without its re-exports (`pub use …;`, any
+/// visibility): a parent naming its children's items for its users is no use
+/// of them, and a child may use its parent's own items only where the parent
+/// uses nothing of the child.
+fn without_reexports(text: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(at) = rest.find("pub") {
+        let after = rest[at + 3..].trim_start();
+        let after = if after.starts_with('(') {
+            after
+                .find(')')
+                .map_or(after, |close| after[close + 1..].trim_start())
+        } else {
+            after
+        };
+        let is_reexport = after.starts_with("use ") && (at == 0 || rest[..at].ends_with(char::is_whitespace));
+        out.push_str(&rest[..at]);
+        if is_reexport {
+            let end = rest[at..].find(';').map_or(rest.len(), |e| at + e + 1);
+            rest = &rest[end..];
+        } else {
+            out.push_str("pub");
+            rest = &rest[at + 3..];
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Every full path a file's code names, made absolute from the crate root
+/// (without `crate::`): `crate::…`, `super::…` and `self::…` paths, and paths
+/// through the file's own child modules (`mod leaf;` then `leaf::LeafRef`),
+/// with `{…}` groups (nested, across lines) expanded: `crate::a::{b, c::D}` →
+/// `a::b`, `a::c::D`. `module` is the file's module path.
+fn used_paths(text: &str, module: &str) -> Vec<String> {
     fn group(prefix: &str, rest: &str, out: &mut Vec<String>) -> usize {
         // `rest` starts just after a `{`; returns the bytes read through its `}`.
         let (mut depth, mut start) = (0, 0);
@@ -181,26 +217,73 @@ fn used_paths(text: &str) -> Vec<String> {
         }
         rest.len()
     }
-    let mut out = Vec::new();
-    for (i, _) in text.match_indices("crate::") {
-        let rest = &text[i + "crate::".len()..];
-        let end = rest
-            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == ':'))
-            .unwrap_or(rest.len());
-        let path = &rest[..end];
-        if path.ends_with("::") && rest[end..].starts_with('{') {
-            group(path, &rest[end + 1..], &mut out);
+    let is_ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let children: Vec<&str> = text
+        .lines()
+        .filter_map(|l| {
+            let l = l.trim();
+            let l = l.strip_prefix("pub ").unwrap_or(l);
+            l.strip_prefix("mod ")?.strip_suffix(';')
+        })
+        .collect();
+    let parent = |m: &str| m.rsplit_once("::").map_or(String::new(), |(p, _)| p.to_string());
+    let join = |base: &str, rest: &str| {
+        if base.is_empty() {
+            rest.to_string()
         } else {
-            out.push(path.to_string());
+            format!("{base}::{rest}")
+        }
+    };
+    let mut out = Vec::new();
+    for (i, c) in text.char_indices() {
+        // A path starts at an identifier not preceded by `::` or another identifier character.
+        if !is_ident(c) || text[..i].ends_with(is_ident) || text[..i].ends_with("::") {
+            continue;
+        }
+        let rest = &text[i..];
+        let end = rest
+            .find(|c: char| !(is_ident(c) || c == ':'))
+            .unwrap_or(rest.len());
+        let mut path = &rest[..end];
+        if !path.contains("::") {
+            continue;
+        }
+        // Resolve the path's start to a module path from the crate root.
+        let mut base = module.to_string();
+        let absolute = if let Some(p) = path.strip_prefix("crate::") {
+            base.clear();
+            p
+        } else if path.starts_with("super::") {
+            while let Some(p) = path.strip_prefix("super::") {
+                base = parent(&base);
+                path = p;
+            }
+            path
+        } else if let Some(p) = path.strip_prefix("self::") {
+            p
+        } else if children
+            .iter()
+            .any(|child| path.split("::").next() == Some(child))
+        {
+            path
+        } else {
+            continue;
+        };
+        let full = join(&base, absolute);
+        if full.ends_with("::") && rest[end..].starts_with('{') {
+            group(&full, &rest[end + 1..], &mut out);
+        } else {
+            out.push(full);
         }
     }
     out
 }
 
 /// Files of `src/` that use each other, directly or round a longer loop: the
-/// strongly connected components of the file-level `use crate::` graph with
-/// more than one file. A file's use of its own parent modules (the items they
-/// re-export) does not count: that is how Rust modules are meant to nest.
+/// strongly connected components of the file-level graph of the paths their
+/// code names ([`used_paths`]; a parent's re-exports are no use), with more
+/// than one file. A child and its parent count like any two files: a parent
+/// that uses its children and a child that uses its parent are a loop.
 fn file_cycles(modules: &[(String, String)]) -> Vec<Vec<String>> {
     let names: Vec<&str> = modules.iter().map(|(m, _)| m.as_str()).collect();
     let index = |path: &str| {
@@ -214,10 +297,10 @@ fn file_cycles(modules: &[(String, String)]) -> Vec<Vec<String>> {
         .iter()
         .enumerate()
         .map(|(from, (module, text))| {
-            let mut to: Vec<usize> = used_paths(text)
+            let mut to: Vec<usize> = used_paths(&without_reexports(text), module)
                 .iter()
                 .filter_map(|p| index(p))
-                .filter(|&t| t != from && !module.starts_with(&format!("{}::", names[t])))
+                .filter(|&t| t != from)
                 .collect();
             to.sort();
             to.dedup();
@@ -323,12 +406,34 @@ fn the_cycle_check_sees_a_loop_through_a_group() {
         module("a::x", "use crate::a::{\n    y::{Y, Z},\n    w,\n};"),
         module("a::y", "use crate::a::z::Z;"),
         module("a::z", "use crate::a::x::X;"),
-        module("a::w", "use crate::a::W;"),
-        module("a", "use crate::a::w::V;"),
+        module("a::w", "use crate::a::w2::W;"),
+        module("a", "pub use w::V;\nmod w;"),
     ];
     assert_eq!(file_cycles(&looped), [["a::x", "a::y", "a::z"]]);
     assert!(
         file_cycles(&looped[1..]).is_empty(),
-        "a child's use of its parent is no loop"
+        "a parent's re-export of a child's item is no use of it"
     );
+}
+
+#[test]
+fn the_cycle_check_sees_relative_paths_and_parents() {
+    let module = |name: &str, text: &str| (name.to_string(), text.to_string());
+    // A parent that calls into its child, and the child that uses the parent's type.
+    let hub = [
+        module("a", "mod b;\npub struct T;\nfn f() { b::g(); }"),
+        module("a::b", "use super::T;\npub fn g() {}"),
+    ];
+    assert_eq!(file_cycles(&hub), [["a", "a::b"]]);
+    let through_self = [
+        module("a", "mod b;\nfn f() { self::b::g(); }"),
+        module("a::b", "fn g() { crate::a::h(); }"),
+    ];
+    assert_eq!(file_cycles(&through_self), [["a", "a::b"]]);
+    let staircase = [
+        module("a", "mod b;\nmod c;\npub use b::T;\nfn f() { c::g(); }"),
+        module("a::b", "pub struct T;"),
+        module("a::c", "use super::b::T;\npub fn g() {}"),
+    ];
+    assert!(file_cycles(&staircase).is_empty());
 }

@@ -5,7 +5,8 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use raypack::scene::native::{InMemory, load_from};
+use raypack::scene::loader::InMemory;
+use raypack::scene::native::load_from;
 use std::path::Path;
 
 const MARK: &[u8] = b"\n--- ";

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::camera::Camera;
-use crate::cli::CliError;
+use crate::cli::error::CliError;
 use crate::scene::generate::test_scenes;
 use crate::scene::{self, Scene};
 

@@ -15,8 +15,8 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::accel::AccelKind;
-use crate::cli::CliResult;
 use crate::cli::args::parse_size;
+use crate::cli::error::CliResult;
 use crate::compare::Kernel;
 use crate::engine::{DEFAULT_EMBREE_CONFIG, EmbreeMode};
 
@@ -87,7 +87,7 @@ pub fn run(args: CheckArgs) -> CliResult {
     #[cfg(not(feature = "embree"))]
     {
         let _ = args;
-        Err(crate::cli::CliError::BadInput(anyhow::anyhow!(
+        Err(crate::cli::error::CliError::BadInput(anyhow::anyhow!(
             crate::engine::EMBREE_MISSING
         )))
     }
@@ -99,11 +99,11 @@ mod with_embree {
 
     use anyhow::anyhow;
 
-    use super::{CheckArgs, RayChoice};
     use crate::atomic_file::AtomicFile;
     use crate::cli::args::{embree_scene, load_scene};
+    use crate::cli::check::{CheckArgs, RayChoice};
+    use crate::cli::error::{CliError, CliResult};
     use crate::cli::stdout::outln;
-    use crate::cli::{CliError, CliResult};
     use crate::compare::diff_image::diff_image;
     use crate::compare::{
         Agreement, AgreementOptions, Kernel, RaySet, classify_rays, primary_rays, random_rays, trace_rays,

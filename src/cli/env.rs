@@ -3,8 +3,8 @@
 //! pages, rustc, profile, flags, git commit, Embree (with the `embree` feature)
 //! and the date.
 
-use crate::cli::CliResult;
 use crate::cli::args::environment;
+use crate::cli::error::CliResult;
 use crate::cli::stdout::outln;
 
 /// Options of `env`.

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::atomic_file::AtomicFile;
-use crate::cli::{CliError, CliResult};
+use crate::cli::error::{CliError, CliResult};
 use crate::scene::generate::{Kind, Params};
 
 /// Options of `gen`.

@@ -7,8 +7,8 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use crate::cli::CliResult;
 use crate::cli::args::load_scene;
+use crate::cli::error::CliResult;
 use crate::geometry::PrimitiveKind;
 use crate::scene::{CameraSpec, Light, Material, Scene};
 

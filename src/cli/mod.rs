@@ -4,6 +4,7 @@ pub mod args;
 mod bench;
 mod check;
 mod env;
+mod error;
 mod r#gen;
 mod info;
 pub mod render;
@@ -17,6 +18,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use crate::simd::Isa;
+pub use error::{CliError, CliResult};
 
 /// raypack: a CPU ray tracer built to be measured.
 #[derive(Parser, Debug)]
@@ -95,31 +97,3 @@ pub fn main() -> ExitCode {
         Err(CliError::StdoutClosed) => ExitCode::SUCCESS,
     }
 }
-
-/// How a subcommand failed: the user's input (exit 2) or anything else (exit 1).
-#[derive(Debug)]
-pub enum CliError {
-    /// Bad input: a malformed scene, an output path that cannot be written…
-    BadInput(anyhow::Error),
-    /// Any other failure.
-    Failed(anyhow::Error),
-    /// Stdout's reader is gone (`raypack … | head`): the command stops, and
-    /// exits 0 saying nothing.
-    StdoutClosed,
-}
-
-/// An output that cannot be written is the user's to fix (exit 2).
-impl From<crate::atomic_file::OutputError> for CliError {
-    fn from(e: crate::atomic_file::OutputError) -> Self {
-        CliError::BadInput(e.into())
-    }
-}
-
-impl From<anyhow::Error> for CliError {
-    fn from(e: anyhow::Error) -> Self {
-        CliError::Failed(e)
-    }
-}
-
-/// Result of a subcommand.
-pub type CliResult = Result<(), CliError>;

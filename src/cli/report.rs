@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use crate::atomic_file::AtomicFile;
 use crate::bench::result::StoredResult;
-use crate::cli::{CliError, CliResult};
+use crate::cli::error::{CliError, CliResult};
 use crate::environment::Environment;
 use crate::report::Input;
 use crate::report::html::is_png;

@@ -11,8 +11,8 @@ use clap::Args as ClapArgs;
 
 use crate::accel::{Accel, TraversalStats};
 use crate::cli::args::{load_scene, thread_pool};
+use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::{out, outln};
-use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, WithAccel, with_accel};
 use crate::render::spd::spd_counts_with_traversal;
 use crate::render::spd_published::{self, Published};

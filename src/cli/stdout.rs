@@ -8,7 +8,7 @@
 use std::fmt;
 use std::io::{self, Write};
 
-use crate::cli::CliError;
+use crate::cli::error::CliError;
 
 /// What a failed write to stdout means for the command.
 pub fn write_error(e: io::Error) -> CliError {

@@ -10,9 +10,9 @@
 
 use crate::accel::TraversalStats;
 use crate::accel::stats::{Counter, NoStats};
-use crate::render::RayCounts;
 use crate::render::batch::BATCH;
 use crate::render::lane_costs::LaneCosts;
+use crate::render::stats::RayCounts;
 
 /// Whether and how a render counts its traversal work.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

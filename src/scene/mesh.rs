@@ -15,7 +15,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::geometry::{Polygon, Primitive, Triangle};
-use crate::scene::{Material, Scene};
+use crate::scene::model::{Material, Scene};
 
 /// Collects the faces of one mesh into a [`Scene`] with one default material.
 #[derive(Debug)]

@@ -68,9 +68,10 @@ use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
 
 use crate::geometry::{Cone, GeometryError, Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
-use crate::scene::{CameraSpec, Light, Material, Scene, SceneError, geometry_message};
+use crate::scene::error::{SceneError, geometry_message};
+use crate::scene::model::{CameraSpec, Light, Material, Scene};
 
-/// Deepest chain of TOML files including one another that [`load`] follows
+/// Deepest chain of TOML files including one another that [`load_from`] follows
 /// (the top file counts as depth 1). Real scenes nest two or three deep; the
 /// cap keeps a long generated chain from exhausting the stack. A constant:
 /// raise it here if a scene needs more.
@@ -79,6 +80,9 @@ pub const MAX_INCLUDE_DEPTH: usize = 32;
 /// Where a TOML scene's includes come from: [`FileSystem`] when a scene is
 /// loaded from disk, [`InMemory`] for scenes and their includes held in memory
 /// (tests and the fuzz targets, which must never touch the disk).
+///
+/// [`FileSystem`]: crate::scene::loader::FileSystem
+/// [`InMemory`]: crate::scene::loader::InMemory
 pub trait SceneFiles {
     /// The name that identifies `path` when looking for include cycles
     /// (two names of one file must give the same identity).
@@ -87,87 +91,6 @@ pub trait SceneFiles {
     fn read(&self, path: &Path) -> Result<Vec<u8>, SceneError>;
     /// The scene in the non-TOML file at `path` (NFF, OBJ, PLY), read by extension.
     fn load(&self, path: &Path) -> Result<Scene, SceneError>;
-}
-
-/// Includes read from disk: identities are canonical paths (so symbolic links
-/// and `..` cannot hide a cycle).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct FileSystem;
-
-impl SceneFiles for FileSystem {
-    fn identity(&self, path: &Path) -> PathBuf {
-        path.canonicalize().unwrap_or_else(|_| path.to_path_buf())
-    }
-
-    fn read(&self, path: &Path) -> Result<Vec<u8>, SceneError> {
-        std::fs::read(path).map_err(|e| SceneError::file(path, format!("cannot read: {e}")))
-    }
-
-    fn load(&self, path: &Path) -> Result<Scene, SceneError> {
-        crate::scene::load(path)
-    }
-}
-
-/// Files held in memory by path; paths are compared after lexical
-/// normalisation (`a/./b/../c` is `a/c`), and a path that is not held cannot
-/// be read. Nothing touches the disk.
-#[derive(Clone, Debug, Default)]
-pub struct InMemory {
-    files: HashMap<PathBuf, Vec<u8>>,
-}
-
-impl InMemory {
-    /// No files.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// Hold `bytes` as the file at `path` (replacing any held there).
-    pub fn insert(&mut self, path: impl AsRef<Path>, bytes: impl Into<Vec<u8>>) {
-        self.files.insert(normalize(path.as_ref()), bytes.into());
-    }
-
-    fn get(&self, path: &Path) -> Result<&[u8], SceneError> {
-        self.files
-            .get(&normalize(path))
-            .map(Vec::as_slice)
-            .ok_or_else(|| SceneError::file(path, "cannot read: no such file in memory"))
-    }
-}
-
-impl SceneFiles for InMemory {
-    fn identity(&self, path: &Path) -> PathBuf {
-        normalize(path)
-    }
-
-    fn read(&self, path: &Path) -> Result<Vec<u8>, SceneError> {
-        self.get(path).map(<[u8]>::to_vec)
-    }
-
-    fn load(&self, path: &Path) -> Result<Scene, SceneError> {
-        crate::scene::parse(path, self.get(path)?)
-    }
-}
-
-/// `path` without `.` components, each `..` cancelling the name before it.
-fn normalize(path: &Path) -> PathBuf {
-    use std::path::Component;
-    let mut out = PathBuf::new();
-    for component in path.components() {
-        match component {
-            Component::CurDir => {}
-            Component::ParentDir if matches!(out.components().next_back(), Some(Component::Normal(_))) => {
-                out.pop();
-            }
-            other => out.push(other),
-        }
-    }
-    out
-}
-
-/// Read the TOML scene at `path`, with its includes.
-pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    load_from(path, &FileSystem)
 }
 
 /// Read the TOML scene at `path`, taking it and its includes from `files`.
@@ -205,14 +128,14 @@ pub fn utf8_text<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a str, SceneError
     })
 }
 
-/// Parse TOML scene text; `path` names the file in errors and locates includes
-/// (read from disk).
-pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+/// Parse TOML scene text; `path` names the file in errors and locates
+/// includes, read from `files`.
+pub fn parse_from(path: &Path, text: &str, files: &dyn SceneFiles) -> Result<Scene, SceneError> {
     parse_nested(
         path,
         text,
         &mut Nesting {
-            files: &FileSystem,
+            files,
             stack: Vec::new(),
         },
     )

@@ -28,7 +28,8 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::geometry::{Cone, GeometryError, Polygon, Primitive, Sphere, Triangle};
-use crate::scene::{CameraSpec, Light, Material, Scene, SceneError, geometry_message};
+use crate::scene::error::{SceneError, geometry_message};
+use crate::scene::model::{CameraSpec, Light, Material, Scene};
 
 /// Read the NFF file at `path`.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {

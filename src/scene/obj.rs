@@ -24,9 +24,10 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::plural;
+use crate::scene::error::SceneError;
 use crate::scene::input::{self, finite_f32, parse_int, quote};
 use crate::scene::mesh::MeshBuilder;
-use crate::scene::{Scene, SceneError};
+use crate::scene::model::Scene;
 
 /// Statements that carry nothing a ray tracer of this engine uses.
 const SKIPPED: [&[u8]; 10] = [

@@ -30,9 +30,10 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::scene::error::SceneError;
 use crate::scene::input::{self, parse_f32, parse_f64, parse_int, quote};
 use crate::scene::mesh::MeshBuilder;
-use crate::scene::{Scene, SceneError};
+use crate::scene::model::Scene;
 
 /// Read the PLY file at `path` (plain or gzip).
 pub fn load(path: &Path) -> Result<Scene, SceneError> {

@@ -16,7 +16,7 @@ use raypack::geometry::plane::Plane;
 use raypack::geometry::{Cone, Polygon, Primitive, Sphere, Transformed, Triangle};
 use raypack::packet::RayPacket8;
 use raypack::ray::{NO_HIT, Ray};
-use raypack::scene::{native, nff};
+use raypack::scene::{self, nff};
 use raypack::simd::SimdFloat;
 use std::path::Path;
 
@@ -214,7 +214,7 @@ proptest! {
                 v[0], v[1], v[2], v[3].trim_start_matches('-')
             );
         }
-        match native::parse(Path::new("hostile.toml"), &text) {
+        match scene::parse(Path::new("hostile.toml"), text.as_bytes()) {
             Err(e) => prop_assert!(e.line.is_some(), "{e}"),
             Ok(scene) => build_and_trace(&scene.primitives, &aimed_rays(&scene.primitives)),
         }

@@ -6,7 +6,7 @@ use glam::{Mat4, Quat, Vec3};
 use raypack::accel::{Accel, BruteForce};
 use raypack::geometry::{Plane as PlaneForm, Primitive, PrimitiveKind};
 use raypack::ray::Ray;
-use raypack::scene::{self, Material, Scene, SceneError, native};
+use raypack::scene::{self, Material, Scene, SceneError, loader, native};
 use std::path::Path;
 
 const EVERY_OBJECT: &str = r#"
@@ -81,7 +81,7 @@ apex_radius = 0
 "#;
 
 fn parse(text: &str) -> Result<Scene, SceneError> {
-    native::parse(Path::new("test.toml"), text)
+    scene::parse(Path::new("test.toml"), text.as_bytes())
 }
 
 #[test]
@@ -303,7 +303,7 @@ fn includes_take_consecutive_indices_materials_and_transforms() {
 #[test]
 fn includes_from_memory_give_the_scene_from_disk() {
     let dir = Scratch::new("native-include-memory");
-    let mut files = native::InMemory::new();
+    let mut files = loader::InMemory::new();
     for (name, text) in INCLUDE_FILES {
         dir.write(name, text);
         files.insert(dir.path().join(name), text);
@@ -329,7 +329,7 @@ fn includes_from_memory_give_the_scene_from_disk() {
 #[test]
 fn includes_from_memory_refuse_cycles_missing_files_and_deep_chains() {
     let include = |path: &str| format!("[[objects]]\ntype = \"include\"\npath = \"{path}\"\n");
-    let mut files = native::InMemory::new();
+    let mut files = loader::InMemory::new();
     files.insert("a.toml", include("sub/b.toml"));
     files.insert("sub/b.toml", include("../x/.././a.toml"));
     files.insert("m.toml", include("gone.nff"));
@@ -354,7 +354,7 @@ fn includes_from_memory_refuse_cycles_missing_files_and_deep_chains() {
 
     // A chain d0 → d1 → … → dN, dN holding a sphere: N + 1 files deep.
     let chain = |files_deep: usize| {
-        let mut files = native::InMemory::new();
+        let mut files = loader::InMemory::new();
         for k in 0..files_deep - 1 {
             files.insert(format!("d{k}.toml"), include(&format!("d{}.toml", k + 1)));
         }
@@ -375,7 +375,7 @@ fn includes_from_memory_refuse_cycles_missing_files_and_deep_chains() {
 /// Parse `text` expecting an error on `line` whose message contains `needle`.
 #[track_caller]
 fn fails(text: &str, line: usize, needle: &str) {
-    let e = native::parse(Path::new("bad.toml"), text).expect_err("must not load");
+    let e = scene::parse(Path::new("bad.toml"), text.as_bytes()).expect_err("must not load");
     let shown = e.to_string();
     assert_eq!(e.line, Some(line), "{shown}");
     assert!(shown.starts_with(&format!("bad.toml:{line}: ")), "{shown}");

@@ -10,7 +10,10 @@
 //! for bit. Every level computes the same operations in the same order (no
 //! fused multiply-adds), so every level gives the same hits.
 
-use crate::accel::bvh::{Bvh, occlusion, traverse_packet, traverse_single};
+use crate::accel::bvh::tree::Bvh;
+use crate::accel::bvh::{occlusion, traverse_packet, traverse_single};
+use std::marker::PhantomData;
+
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -108,6 +111,59 @@ fn each_intersect<N: Simd8, S: Counter>(
     }
 }
 
+/// `$trace::<G>(args…)` with `G` the lane type of level `$L` as wide as `$F`,
+/// its result converted back to `$F`'s lanes, bit for bit: the width switch
+/// of every packet entry point. (A macro, since the lane type is chosen per
+/// width at compile time and a closure cannot be generic over it.)
+macro_rules! at_width {
+    ($F:ty, $L:ty, $trace:ident($($arg:expr),*)) => {
+        match <$F as SimdFloat>::LANES {
+            4 => $trace::<<$L as Level>::F4, _, S>($($arg),*).convert(),
+            8 => $trace::<<$L as Level>::F8, _, S>($($arg),*).convert(),
+            16 => $trace::<<$L as Level>::F16, _, S>($($arg),*).convert(),
+            _ => $trace::<$F, _, S>($($arg),*),
+        }
+    };
+}
+
+/// The nearest hits of the active lanes of `rays`, in the lanes `G`.
+#[inline(always)]
+fn nearest_in<G: SimdFloat, F: SimdFloat, S: Counter>(
+    bvh: &Bvh,
+    rays: &RayPacket<F>,
+    stats: &mut S,
+) -> HitPacket<G> {
+    traverse_packet::intersect_packet(bvh, &rays.convert::<G>(), stats)
+}
+
+/// The occluded lanes of `rays`, in the lanes `G`.
+#[inline(always)]
+fn occluded_in<G: SimdFloat, F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> G {
+    occlusion::occluded_packet(bvh, &rays.convert::<G>(), stats)
+}
+
+/// The nearest hits of the rays of `rays` in `mask`, packed in the lanes `G`.
+#[inline(always)]
+fn nearest_of_rays<G: SimdFloat, R: AsRef<[Ray]>, S: Counter>(
+    bvh: &Bvh,
+    rays: R,
+    mask: u32,
+    stats: &mut S,
+) -> HitPacket<G> {
+    traverse_packet::intersect_packet(bvh, &RayPacket::<G>::from_rays_masked(rays.as_ref(), mask), stats)
+}
+
+/// The occluded rays of `rays` in `mask`, packed in the lanes `G`.
+#[inline(always)]
+fn occluded_of_rays<G: SimdFloat, R: AsRef<[Ray]>, S: Counter>(
+    bvh: &Bvh,
+    rays: R,
+    mask: u32,
+    stats: &mut S,
+) -> G {
+    occlusion::occluded_packet(bvh, &RayPacket::<G>::from_rays_masked(rays.as_ref(), mask), stats)
+}
+
 /// The nearest hits of the active lanes of `rays`.
 #[inline(always)]
 pub fn intersect_packet<F: SimdFloat, S: Counter>(
@@ -121,12 +177,7 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
         #[inline(always)]
         fn run<L: Level>(self) -> HitPacket<F> {
             let Task(bvh, rays, stats) = self;
-            match F::LANES {
-                4 => traverse_packet::intersect_packet(bvh, &rays.convert::<L::F4>(), stats).convert(),
-                8 => traverse_packet::intersect_packet(bvh, &rays.convert::<L::F8>(), stats).convert(),
-                16 => traverse_packet::intersect_packet(bvh, &rays.convert::<L::F16>(), stats).convert(),
-                _ => traverse_packet::intersect_packet(bvh, rays, stats),
-            }
+            at_width!(F, L, nearest_in(bvh, rays, stats))
         }
     }
     on_level(bvh, Task(bvh, rays, stats))
@@ -141,12 +192,7 @@ pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>,
         #[inline(always)]
         fn run<L: Level>(self) -> F {
             let Task(bvh, rays, stats) = self;
-            match F::LANES {
-                4 => occlusion::occluded_packet(bvh, &rays.convert::<L::F4>(), stats).convert(),
-                8 => occlusion::occluded_packet(bvh, &rays.convert::<L::F8>(), stats).convert(),
-                16 => occlusion::occluded_packet(bvh, &rays.convert::<L::F16>(), stats).convert(),
-                _ => occlusion::occluded_packet(bvh, rays, stats),
-            }
+            at_width!(F, L, occluded_in(bvh, rays, stats))
         }
     }
     on_level(bvh, Task(bvh, rays, stats))
@@ -161,60 +207,30 @@ pub fn intersect_rays<F: SimdFloat, S: Counter>(
     mask: u32,
     stats: &mut S,
 ) -> HitPacket<F> {
-    struct Task<'a, S>(&'a Bvh, &'a [Ray], u32, &'a mut S);
-    impl<S: Counter> Task<'_, S> {
-        #[inline(always)]
-        fn trace<G: SimdFloat>(self) -> HitPacket<G> {
-            let Task(bvh, rays, mask, stats) = self;
-            traverse_packet::intersect_packet(bvh, &RayPacket::<G>::from_rays_masked(rays, mask), stats)
-        }
-    }
-    struct Width<'a, F, S>(Task<'a, S>, std::marker::PhantomData<F>);
-    impl<F: SimdFloat, S: Counter> LevelTask for Width<'_, F, S> {
+    struct Task<'a, F, S>(&'a Bvh, &'a [Ray], u32, &'a mut S, PhantomData<F>);
+    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
         type Output = HitPacket<F>;
         #[inline(always)]
         fn run<L: Level>(self) -> HitPacket<F> {
-            match F::LANES {
-                4 => self.0.trace::<L::F4>().convert(),
-                8 => self.0.trace::<L::F8>().convert(),
-                16 => self.0.trace::<L::F16>().convert(),
-                _ => self.0.trace::<F>(),
-            }
+            let Task(bvh, rays, mask, stats, _) = self;
+            at_width!(F, L, nearest_of_rays(bvh, rays, mask, stats))
         }
     }
-    on_level(
-        bvh,
-        Width::<F, S>(Task(bvh, rays, mask, stats), std::marker::PhantomData),
-    )
+    on_level(bvh, Task::<F, S>(bvh, rays, mask, stats, PhantomData))
 }
 
 /// [`Accel::occluded_rays_counted`](crate::accel::Accel::occluded_rays_counted),
 /// as [`intersect_rays`].
 #[inline(always)]
 pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut S) -> F {
-    struct Task<'a, S>(&'a Bvh, &'a [Ray], u32, &'a mut S);
-    impl<S: Counter> Task<'_, S> {
-        #[inline(always)]
-        fn trace<G: SimdFloat>(self) -> G {
-            let Task(bvh, rays, mask, stats) = self;
-            occlusion::occluded_packet(bvh, &RayPacket::<G>::from_rays_masked(rays, mask), stats)
-        }
-    }
-    struct Width<'a, F, S>(Task<'a, S>, std::marker::PhantomData<F>);
-    impl<F: SimdFloat, S: Counter> LevelTask for Width<'_, F, S> {
+    struct Task<'a, F, S>(&'a Bvh, &'a [Ray], u32, &'a mut S, PhantomData<F>);
+    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
         type Output = F;
         #[inline(always)]
         fn run<L: Level>(self) -> F {
-            match F::LANES {
-                4 => self.0.trace::<L::F4>().convert(),
-                8 => self.0.trace::<L::F8>().convert(),
-                16 => self.0.trace::<L::F16>().convert(),
-                _ => self.0.trace::<F>(),
-            }
+            let Task(bvh, rays, mask, stats, _) = self;
+            at_width!(F, L, occluded_of_rays(bvh, rays, mask, stats))
         }
     }
-    on_level(
-        bvh,
-        Width::<F, S>(Task(bvh, rays, mask, stats), std::marker::PhantomData),
-    )
+    on_level(bvh, Task::<F, S>(bvh, rays, mask, stats, PhantomData))
 }

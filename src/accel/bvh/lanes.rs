@@ -5,12 +5,13 @@
 
 use glam::Vec3;
 
-use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::query::{INTERLEAVED, LaneQueries, RayQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::SlabRay;
 use crate::accel::bvh::traverse_single::{traverse, traverse_interleaved};
-use crate::accel::bvh::wide::{ChildRef, TreeWidth};
+use crate::accel::bvh::tree::Bvh;
+use crate::accel::bvh::tree::TreeWidth;
+use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;

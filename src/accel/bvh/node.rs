@@ -128,6 +128,12 @@ fn padded(b: Aabb) -> (Vec3, Vec3) {
     )
 }
 
+/// The node `id` of the pairs `pairs`.
+#[inline(always)]
+pub fn node_in(pairs: &[NodePair], id: NodeId) -> &Node {
+    &pairs[(id >> 1) as usize].0[(id & 1) as usize]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

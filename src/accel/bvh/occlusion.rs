@@ -3,12 +3,12 @@
 //! [`traverse_packet`](super::traverse_packet) with a query that stops a ray at
 //! the first primitive it hits anywhere in `[t_min, t_max]`.
 
-use crate::accel::bvh::Bvh;
 use crate::accel::bvh::lanes::leaf_lane_by_lane;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::query::{LaneQueries, PacketQuery, RayQuery};
 use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::trace;
+use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -31,7 +31,7 @@ impl RayQuery for AnyHit<'_> {
 
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        bvh.leaves
+        bvh.leaves()
             .intersect::<N, S>(leaf, self.ray, self.hit, true, stats)
     }
 }
@@ -102,12 +102,12 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
             return;
         }
         self.rays.active = active;
-        for prim in bvh.leaves.items(leaf) {
+        for prim in bvh.leaves().items(leaf) {
             if self.rays.active.none() {
                 break;
             }
             stats.packet_prim(self.rays.active);
-            bvh.leaves.intersect_packet(prim, &self.rays, &mut self.hits);
+            bvh.leaves().intersect_packet(prim, &self.rays, &mut self.hits);
             let hit = self.hits.hit_mask();
             self.pending = self.pending.and_not(hit);
             self.rays.active = self.rays.active.and_not(hit);

@@ -4,8 +4,8 @@
 //! (nearest hit, any hit), as in madmann91's `bvh` library, whose traversal
 //! takes the leaf test as a parameter.
 
-use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
+use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
 use crate::packet::RayPacket;
 use crate::ray::{Hit, Ray};

@@ -5,7 +5,7 @@
 
 use std::mem::MaybeUninit;
 
-use crate::accel::bvh::MAX_DEPTH;
+use crate::accel::bvh::build_sah::MAX_DEPTH;
 
 /// Slots of a single-ray traversal's stack (12-byte entries: 3 KiB). The
 /// collapse into wide nodes keeps every root-to-leaf path within it (see

@@ -12,12 +12,13 @@
 //! the lanes split up only near the leaves. The coherent packets of primary
 //! rays keep to the binary tree ([`traverse_packet`](super::traverse_packet)).
 
-use crate::accel::bvh::Bvh;
 use crate::accel::bvh::lanes::finish_lanes;
 use crate::accel::bvh::query::{INTERLEAVE_FROM, PacketQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
-use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes, TreeWidth};
+use crate::accel::bvh::tree::Bvh;
+use crate::accel::bvh::tree::TreeWidth;
+use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes};
 use crate::accel::stats::Counter;
 use crate::simd::SimdFloat;
 

@@ -26,7 +26,6 @@ use crate::accel::bvh::leaf::LeafRef;
 
 use glam::Vec3;
 
-use crate::accel::bvh::Bvh;
 use crate::accel::bvh::lanes::leaf_lane_by_lane;
 use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::query::{LaneQueries, PacketQuery};
@@ -34,6 +33,7 @@ use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
 use crate::accel::bvh::traverse_hybrid::{LaneWalk, traverse_hybrid};
 use crate::accel::bvh::traverse_single::Nearest;
+use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
 use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
@@ -286,9 +286,9 @@ impl<F: SimdFloat> PacketQuery<F> for NearestPacket<'_, F> {
             return;
         }
         self.rays.active = mask;
-        for prim in bvh.leaves.items(leaf) {
+        for prim in bvh.leaves().items(leaf) {
             stats.packet_prim(mask);
-            bvh.leaves.intersect_packet(prim, &self.rays, self.hits);
+            bvh.leaves().intersect_packet(prim, &self.rays, self.hits);
         }
     }
 }

@@ -12,12 +12,13 @@
 
 use std::mem::MaybeUninit;
 
-use crate::accel::bvh::Bvh;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::query::{INTERLEAVED, RayQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
-use crate::accel::bvh::wide::{ChildRef, RayTreeLanes, TreeWidth};
+use crate::accel::bvh::tree::Bvh;
+use crate::accel::bvh::tree::TreeWidth;
+use crate::accel::bvh::wide::{ChildRef, RayTreeLanes};
 use crate::accel::stats::Counter;
 use crate::ray::{Hit, Ray};
 use crate::simd::Simd8;
@@ -193,7 +194,7 @@ impl RayQuery for Nearest<'_> {
 
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        bvh.leaves
+        bvh.leaves()
             .intersect::<N, S>(leaf, self.ray, self.hit, false, stats);
         false
     }

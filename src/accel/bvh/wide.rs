@@ -21,10 +21,9 @@
 //! The widths are the same on every machine, so the trees do not depend on
 //! the instruction set they are traced with.
 
-use crate::accel::bvh::Bvh;
-use crate::accel::bvh::MAX_DEPTH;
+use crate::accel::bvh::build_sah::MAX_DEPTH;
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::node::{NodeId, ROOT};
+use crate::accel::bvh::node::{NodeId, NodePair, ROOT, node_in};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
 use crate::accel::bvh::stack::WIDE_STACK_SLOTS;
 use crate::bounds::Aabb;
@@ -91,12 +90,6 @@ pub type RayTreeLanes = wide::f32x16;
 /// The lanes (children per node) of the wide tree packets walk, and the
 /// single-ray walks they hand lanes to.
 pub type PacketTreeLanes = wide::f32x8;
-
-/// A width of wide tree that a [`Bvh`] holds, and where it keeps its nodes.
-pub trait TreeWidth: SimdFloat {
-    /// The nodes of `bvh`'s tree of this width (node 0 holds the root's children).
-    fn nodes(bvh: &Bvh) -> &[WideNodeOf<Self>];
-}
 
 /// Pending children (the sum of `children − 1` over the wide nodes above) a
 /// root-to-leaf path of a tree `width` wide may gather before the collapse
@@ -220,22 +213,28 @@ impl<F: SimdFloat> WideNodeOf<F> {
     }
 }
 
-/// Collapse the binary tree of `bvh` into wide nodes of `F::LANES`
-/// children: node 0 holds the root's children (or the root itself when it
-/// is a leaf; nothing for an empty tree).
-pub fn collapse<F: SimdFloat>(bvh: &Bvh) -> Vec<WideNodeOf<F>> {
+/// Collapse the binary tree of node pairs `pairs` into wide nodes of
+/// `F::LANES` children: node 0 holds the root's children (or the root itself
+/// when it is a leaf; nothing for an `empty` tree).
+pub fn collapse<F: SimdFloat>(pairs: &[NodePair], empty: bool) -> Vec<WideNodeOf<F>> {
     let mut nodes = vec![WideNodeOf::empty()];
-    if !bvh.is_empty() {
-        fill(bvh, ROOT, 0, 0, &mut nodes);
+    if !empty {
+        fill(pairs, ROOT, 0, 0, &mut nodes);
     }
     nodes
 }
 
 /// Fill wide node `at` with the binary subtree under `id`, depth first;
 /// `pending` is the path's pending count above it (see [`pending_budget`]).
-fn fill<F: SimdFloat>(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mut Vec<WideNodeOf<F>>) {
+fn fill<F: SimdFloat>(
+    pairs: &[NodePair],
+    id: NodeId,
+    at: usize,
+    pending: usize,
+    out: &mut Vec<WideNodeOf<F>>,
+) {
     let area = |c: NodeId| {
-        let n = bvh.node(c);
+        let n = node_in(pairs, c);
         Aabb::new(n.min, n.max).surface_area()
     };
     // Open the largest inner child until the node is full (or only leaves).
@@ -244,26 +243,26 @@ fn fill<F: SimdFloat>(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mu
     } else {
         2
     };
-    let mut children: Vec<NodeId> = if bvh.node(id).is_leaf() {
+    let mut children: Vec<NodeId> = if node_in(pairs, id).is_leaf() {
         vec![id]
     } else {
-        bvh.node(id).children().to_vec()
+        node_in(pairs, id).children().to_vec()
     };
     while children.len() < width {
         let widest = children
             .iter()
             .enumerate()
-            .filter(|(_, c)| !bvh.node(**c).is_leaf())
+            .filter(|(_, c)| !node_in(pairs, **c).is_leaf())
             .max_by(|a, b| area(*a.1).total_cmp(&area(*b.1)))
             .map(|(i, _)| i);
         let Some(i) = widest else { break };
         let opened = children.remove(i);
-        children.extend(bvh.node(opened).children());
+        children.extend(node_in(pairs, opened).children());
     }
     let mut node = WideNodeOf::<F>::empty();
     let mut inner = Vec::new();
     for (i, &c) in children.iter().enumerate() {
-        let n = bvh.node(c);
+        let n = node_in(pairs, c);
         for axis in 0..3 {
             node.bounds[axis][0].as_mut()[i] = n.min[axis];
             node.bounds[axis][1].as_mut()[i] = n.max[axis];
@@ -280,7 +279,7 @@ fn fill<F: SimdFloat>(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mu
     }
     out[at] = node;
     for (c, slot) in inner {
-        fill(bvh, c, slot, pending + children.len() - 1, out);
+        fill(pairs, c, slot, pending + children.len() - 1, out);
     }
 }
 
@@ -288,6 +287,7 @@ fn fill<F: SimdFloat>(bvh: &Bvh, id: NodeId, at: usize, pending: usize, out: &mu
 mod tests {
     use super::*;
     use crate::accel::Bvh;
+    use crate::accel::bvh::tree::TreeWidth;
     use crate::ray::Ray;
     use crate::rng::Rng;
     use crate::scene::generate::random;

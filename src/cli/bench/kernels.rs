@@ -6,8 +6,8 @@ use std::time::Duration;
 use clap::Args;
 
 use crate::bench::kernels::{KernelRow, Measure, for_each_setup};
-use crate::cli::CliResult;
-use crate::cli::bench::{Output, Run, figure};
+use crate::cli::bench::output::{Output, Run, figure};
+use crate::cli::error::CliResult;
 use crate::cli::stdout::outln;
 
 /// Options of `bench kernels`.

@@ -11,9 +11,9 @@ use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave,
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::scene_bounds;
 use crate::cli::args::{load_scene, parse_size, scene_camera};
-use crate::cli::bench::{Output, Run, figure};
+use crate::cli::bench::output::{Output, Run, figure};
+use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
-use crate::cli::{CliError, CliResult};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, KernelKind};
 use crate::scene::Scene;

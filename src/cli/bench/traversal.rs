@@ -7,9 +7,9 @@ use crate::bench::rays::RayKind;
 use crate::bench::traversal::EngineVariant;
 use crate::bench::traversal::{Builder, TraversalRow, TraversalSetup, measure, scene_bounds};
 use crate::cli::args::{load_scene, parse_size};
-use crate::cli::bench::{Output, Run, figure};
+use crate::cli::bench::output::{Output, Run, figure};
+use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
-use crate::cli::{CliError, CliResult};
 use crate::engine::{EmbreeIsa, Engine};
 use crate::scene::generate::random::framing_camera;
 

@@ -19,8 +19,7 @@ use std::io::{self, Write};
 
 use glam::{DMat3, DVec3};
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View, phong_exponent};
+use super::nff_writer::{NffWriter, SKY_BLUE, Surface, View, phong_exponent};
 
 /// Teeth per gear (the SPD's value; a multiple of 4).
 const TEETH: usize = 36;

@@ -52,12 +52,7 @@ mod tree;
 use std::io::{self, Write};
 use std::ops::RangeInclusive;
 
-use glam::DVec3;
-
 use nff_writer::NffWriter;
-
-/// The SPD's background colour, "UNC sky blue".
-const SKY_BLUE: DVec3 = DVec3::new(0.078, 0.361, 0.753);
 
 /// Seed of the random kinds when none is given.
 const DEFAULT_SEED: u64 = 1;

@@ -27,8 +27,7 @@ use std::io::{self, Write};
 
 use glam::{DMat3, DVec3};
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View, phong_exponent};
+use super::nff_writer::{NffWriter, SKY_BLUE, Surface, View, phong_exponent};
 
 /// The mountain the SPD publishes.
 pub const DEFAULT_MOUNTAIN: u64 = 21;

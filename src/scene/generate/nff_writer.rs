@@ -8,6 +8,9 @@ use std::io::{self, Write};
 
 use glam::DVec3;
 
+/// The SPD's background colour, "UNC sky blue".
+pub const SKY_BLUE: DVec3 = DVec3::new(0.078, 0.361, 0.753);
+
 /// The camera of an NFF `v` entity. 96 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {

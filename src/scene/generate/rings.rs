@@ -24,8 +24,7 @@ use std::io::{self, Write};
 
 use glam::{DMat3, DVec3};
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View, phong_exponent};
+use super::nff_writer::{NffWriter, SKY_BLUE, Surface, View, phong_exponent};
 
 /// Radius of the cylinders and of the spheres at their joints.
 const RADIUS: f64 = 0.07412;

@@ -6,8 +6,7 @@ use std::io::{self, Write};
 
 use glam::DVec3;
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, View};
+use super::nff_writer::{NffWriter, SKY_BLUE, View};
 
 /// Write the background, camera and lights for content inside `[−1, 1]³`.
 pub fn write<W: Write>(out: &mut NffWriter<W>) -> io::Result<()> {

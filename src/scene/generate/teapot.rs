@@ -26,8 +26,7 @@ use std::io::{self, Write};
 
 use glam::DVec3;
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View, phong_exponent};
+use super::nff_writer::{NffWriter, SKY_BLUE, Surface, View, phong_exponent};
 
 /// Primitives for size factor `size`: the triangles and the squares.
 pub fn primitive_count(size: u32) -> u64 {

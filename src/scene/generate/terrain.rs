@@ -10,8 +10,7 @@ use std::io::{self, Write};
 
 use glam::DVec3;
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View};
+use super::nff_writer::{NffWriter, SKY_BLUE, Surface, View};
 use crate::rng::Rng;
 
 /// Offset amplitude of the first level, in height units.

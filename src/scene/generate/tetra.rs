@@ -13,8 +13,7 @@ use std::io::{self, Write};
 
 use glam::DVec3;
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View};
+use super::nff_writer::{NffWriter, SKY_BLUE, Surface, View};
 
 /// The corners of the tetrahedron in the cube `[−1, 1]³`: the cube corners whose
 /// coordinate signs multiply to +1, in x-major order.

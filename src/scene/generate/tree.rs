@@ -21,8 +21,7 @@ use std::io::{self, Write};
 
 use glam::{DAffine3, DMat3, DVec3};
 
-use super::SKY_BLUE;
-use super::nff_writer::{NffWriter, Surface, View, phong_exponent};
+use super::nff_writer::{NffWriter, SKY_BLUE, Surface, View, phong_exponent};
 
 /// Branching angle in degrees, divergence about the parent's axis (on top of a
 /// quarter turn) in degrees, and length contraction, for each of the two children.

@@ -1,0 +1,87 @@
+//! Building a [`Bvh`] over a scene's primitives: their boxes, the binned SAH
+//! tree over them ([`build_sah`](super::build_sah)), the leaves' primitive
+//! store, and the two wide trees collapsed from the binary one.
+
+use rayon::prelude::*;
+
+use crate::accel::bvh::build_sah::{self, BuildOptions};
+use crate::accel::bvh::leaf_store::LeafStore;
+use crate::accel::bvh::node::{Node, NodePair};
+use crate::accel::bvh::tree::Bvh;
+use crate::accel::bvh::wide;
+use crate::bounds::Aabb;
+use crate::geometry::Primitive;
+use crate::simd::Isa;
+
+impl Bvh {
+    /// Build over `prims` with the [`BuildOptions`] for their number
+    /// ([`BuildOptions::for_primitives`]).
+    pub fn new(prims: &[Primitive]) -> Self {
+        Self::with_options(prims, &BuildOptions::for_primitives(prims.len()))
+    }
+
+    /// Build over `prims`; a hit's primitive index is the position in `prims`.
+    pub fn with_options(prims: &[Primitive], options: &BuildOptions) -> Self {
+        // The primitives' boxes, in parallel, the empty box for one the tree
+        // cannot hold (not finite, or empty).
+        let usable = |b: Aabb| b.min.is_finite() && b.max.is_finite() && !b.is_empty();
+        let mut boxes: Vec<Aabb> = prims
+            .par_iter()
+            .map(|p| p.bounds().filter(|b| usable(*b)).unwrap_or(Aabb::EMPTY))
+            .collect();
+        // Where some cannot be held, sort the primitives into the tree's, the
+        // unbounded and the skipped; the tree's then have ids of their own.
+        // (Mostly all can: then a tree index is an input index.)
+        let (mut bounded_ids, mut unbounded_ids, mut skipped) = (None, Vec::new(), 0);
+        if boxes.par_iter().any(Aabb::is_empty) {
+            let mut ids = Vec::with_capacity(prims.len());
+            let mut kept = 0;
+            for (i, p) in prims.iter().enumerate() {
+                let b = boxes[i];
+                if !b.is_empty() {
+                    boxes[kept] = b;
+                    kept += 1;
+                    ids.push(i as u32);
+                } else if matches!(p, Primitive::Triangle(t) if t.is_degenerate()) {
+                    skipped += 1;
+                } else {
+                    unbounded_ids.push(i as u32);
+                }
+            }
+            boxes.truncate(kept);
+            bounded_ids = Some(ids);
+        }
+        let (mut pairs, order) = if boxes.is_empty() {
+            (vec![NodePair([Node::EMPTY; 2])], Vec::new())
+        } else {
+            let built = build_sah::build(&boxes, options);
+            (built.pairs, built.order)
+        };
+        // Store each leaf's primitives; the leaf nodes then point there.
+        let mut leaves: Vec<&mut Node> = pairs
+            .iter_mut()
+            .flat_map(|pair| &mut pair.0)
+            .filter(|n| n.is_leaf() && n.meta != 0)
+            .collect();
+        leaves.sort_unstable_by_key(|n| n.first);
+        let input = |k: u32| {
+            let id = bounded_ids.as_ref().map_or(k, |ids| ids[k as usize]);
+            (&prims[id as usize], id)
+        };
+        let mut store = LeafStore::build(&mut leaves, &order, input);
+        let unbounded = store.push_records(unbounded_ids.iter().map(|&id| (&prims[id as usize], id)));
+        let mut bvh = Self {
+            pairs,
+            ray_tree: Vec::new(),
+            packet_tree: Vec::new(),
+            leaves: store,
+            unbounded,
+            bounded: order.len(),
+            skipped,
+            isa: Isa::default_level(),
+        };
+        bvh.ray_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
+        bvh.packet_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
+        bvh
+    }
+}

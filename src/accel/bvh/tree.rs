@@ -1,0 +1,212 @@
+//! The BVH's data: the binary tree of node pairs, the same tree collapsed
+//! into 16- and 8-wide nodes, and the leaves' primitives ([`Bvh`]), with the
+//! reads every traversal makes of them. Built by [`builder`](super::builder);
+//! walked by the traversals above it.
+
+use crate::accel::bvh::leaf::LeafRef;
+use crate::accel::bvh::leaf_store::LeafStore;
+use crate::accel::bvh::node::{Node, NodeId, NodePair, ROOT, node_in};
+use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes, WideNodeOf};
+use crate::bounds::Aabb;
+use crate::simd::isa::IsaError;
+use crate::simd::{Isa, SimdFloat};
+
+/// Most bytes of a leaf [`Bvh::prefetch`] asks for (a wide node is prefetched whole).
+const PREFETCH_BYTES: usize = 256;
+
+/// Ask the CPU to load the cache line holding `p` (a hint: any address is fine).
+#[inline(always)]
+fn prefetch_line(p: *const u8) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is a hint that never faults, whatever the address.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(p.cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
+}
+
+/// A width of wide tree that a [`Bvh`] holds, and where it keeps its nodes.
+pub trait TreeWidth: SimdFloat {
+    /// The nodes of `bvh`'s tree of this width (node 0 holds the root's children).
+    fn nodes(bvh: &Bvh) -> &[WideNodeOf<Self>];
+}
+
+impl TreeWidth for RayTreeLanes {
+    #[inline(always)]
+    fn nodes(bvh: &Bvh) -> &[WideNodeOf<Self>] {
+        &bvh.ray_tree
+    }
+}
+
+impl TreeWidth for PacketTreeLanes {
+    #[inline(always)]
+    fn nodes(bvh: &Bvh) -> &[WideNodeOf<Self>] {
+        &bvh.packet_tree
+    }
+}
+
+/// A BVH (binary nodes for packets, wide nodes for single rays) owning a
+/// reordered copy of the primitives it holds.
+#[derive(Clone, Debug)]
+pub struct Bvh {
+    /// Node pairs; the root is node [`ROOT`] (pair 0, side 0).
+    pub(super) pairs: Vec<NodePair>,
+    /// The same tree collapsed to 16-wide nodes, which single rays traverse.
+    pub(super) ray_tree: Vec<WideNodeOf<RayTreeLanes>>,
+    /// The same tree collapsed to 8-wide nodes, which incoherent packets traverse.
+    pub(super) packet_tree: Vec<WideNodeOf<PacketTreeLanes>>,
+    /// The primitives, which the leaves of both trees name.
+    pub(super) leaves: LeafStore,
+    /// The leaf of the primitives with no finite box, tested by every ray.
+    pub(super) unbounded: LeafRef,
+    /// Primitives in the tree.
+    pub(super) bounded: usize,
+    /// Degenerate triangles left out.
+    pub(super) skipped: usize,
+    /// The instruction set queries run on ([`dispatch`]).
+    pub(super) isa: Isa,
+}
+
+/// Figures about a built BVH, for reports.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct BvhInfo {
+    /// Primitives in the tree.
+    pub primitives: usize,
+    /// Primitives outside the tree, tested by every ray (planes).
+    pub unbounded: usize,
+    /// Degenerate triangles left out (no ray can hit them).
+    pub skipped: usize,
+    /// Nodes (inner and leaves).
+    pub nodes: usize,
+    /// Leaves.
+    pub leaves: usize,
+    /// Depth of the deepest leaf (the root has depth 0).
+    pub max_depth: usize,
+    /// Largest leaf.
+    pub max_leaf_size: usize,
+    /// SAH cost of the tree with unit node and primitive costs, relative to the root's area.
+    pub sah_cost: f64,
+    /// Memory of nodes and primitive copies, in bytes.
+    pub bytes: usize,
+}
+
+impl Bvh {
+    /// Bytes of what single rays read: the 16-wide nodes and the leaves.
+    #[inline(always)]
+    pub fn walked_bytes(&self) -> usize {
+        size_of_val(self.ray_tree.as_slice()) + self.leaves.bytes()
+    }
+
+    /// The instruction set queries run on: [`Isa::default_level`] when built.
+    pub fn isa(&self) -> Isa {
+        self.isa
+    }
+
+    /// Run queries on `isa` from now on; an error if this CPU cannot run it.
+    pub fn set_isa(&mut self, isa: Isa) -> Result<(), IsaError> {
+        if !isa.is_available() {
+            return Err(IsaError::Unavailable(isa));
+        }
+        self.isa = isa;
+        Ok(())
+    }
+
+    /// The node `id`.
+    #[inline(always)]
+    pub fn node(&self, id: NodeId) -> &Node {
+        node_in(&self.pairs, id)
+    }
+
+    /// Every leaf's primitives, which the leaves of both trees name.
+    #[inline(always)]
+    pub fn leaves(&self) -> &LeafStore {
+        &self.leaves
+    }
+
+    /// The node pair `pair` (the children of an inner node whose `first` is `pair`).
+    #[inline(always)]
+    pub fn pair(&self, pair: u32) -> &NodePair {
+        &self.pairs[pair as usize]
+    }
+
+    /// Start loading what `child` (of the tree of width `F`) leads to into
+    /// the cache: the wide node's lines, or the first lines of the leaf's blocks.
+    #[inline(always)]
+    pub fn prefetch<F: TreeWidth>(&self, child: ChildRef) {
+        let (start, bytes) = if !child.is_leaf() {
+            let node = F::nodes(self).as_ptr().wrapping_add(child.node());
+            (node.cast::<u8>(), size_of::<WideNodeOf<F>>())
+        } else {
+            match self.leaves.block_bytes(child.contents()) {
+                Some((blocks, bytes)) => (blocks, bytes.min(PREFETCH_BYTES)),
+                None => return,
+            }
+        };
+        for line in (0..bytes).step_by(64) {
+            prefetch_line(start.wrapping_add(line));
+        }
+    }
+
+    /// True when no primitive is in the tree.
+    #[inline(always)]
+    pub fn is_empty(&self) -> bool {
+        self.bounded == 0
+    }
+
+    /// The leaf of the primitives with no finite box (planes), which every
+    /// ray visits before the tree; None when there are none.
+    #[inline(always)]
+    pub fn unbounded_leaf(&self) -> Option<LeafRef> {
+        (self.unbounded.count() > 0).then(|| self.unbounded.clone())
+    }
+
+    /// The (padded) box of the whole tree; empty when no primitive is bounded.
+    pub fn bounds(&self) -> Aabb {
+        if self.is_empty() {
+            return Aabb::EMPTY;
+        }
+        let root = self.node(ROOT);
+        Aabb::new(root.min, root.max)
+    }
+
+    /// Node counts, depth and SAH cost.
+    pub fn info(&self) -> BvhInfo {
+        let mut info = BvhInfo {
+            primitives: self.bounded,
+            unbounded: self.unbounded.count(),
+            skipped: self.skipped,
+            nodes: 0,
+            leaves: 0,
+            max_depth: 0,
+            max_leaf_size: 0,
+            sah_cost: 0.0,
+            bytes: size_of_val(self.pairs.as_slice())
+                + size_of_val(self.ray_tree.as_slice())
+                + size_of_val(self.packet_tree.as_slice())
+                + self.leaves.bytes(),
+        };
+        if self.is_empty() {
+            return info;
+        }
+        let area = |n: &Node| f64::from(Aabb::new(n.min, n.max).surface_area());
+        let root_area = area(self.node(ROOT));
+        let mut stack = vec![(ROOT, 0usize)];
+        while let Some((id, depth)) = stack.pop() {
+            let n = self.node(id);
+            info.nodes += 1;
+            info.max_depth = info.max_depth.max(depth);
+            let weight = area(n) / root_area;
+            if n.is_leaf() {
+                info.leaves += 1;
+                let count = n.contents().count();
+                info.max_leaf_size = info.max_leaf_size.max(count);
+                info.sah_cost += weight * count as f64;
+            } else {
+                info.sah_cost += weight;
+                stack.extend(n.children().map(|c| (c, depth + 1)));
+            }
+        }
+        info
+    }
+}
