@@ -1,5 +1,5 @@
 //! Building a [`Bvh`] over a scene's primitives: their boxes, the binned SAH
-//! tree over them ([`build_sah`](super::build_sah)), the leaves' primitive
+//! tree over them ([`build_sah`]), the leaves' primitive
 //! store, and the two wide trees collapsed from the binary one.
 
 use rayon::prelude::*;

@@ -18,7 +18,7 @@
 //! - A packet of rays from all over the scene ([`is_scattered`]) shares no
 //!   node below the root: its lanes walk the wide tree as single rays,
 //!   interleaved so that their cache misses overlap
-//!   ([`traverse_interleaved`]).
+//!   ([`traverse_interleaved`](crate::accel::bvh::traverse_single::traverse_interleaved)).
 //!
 //! One loop serves nearest-hit and any-hit queries ([`PacketQuery`]).
 
