@@ -10,10 +10,10 @@
 //! for bit. Every level computes the same operations in the same order (no
 //! fused multiply-adds), so every level gives the same hits.
 
-use crate::accel::bvh::tree::Bvh;
-use crate::accel::bvh::{occlusion, traverse_packet, traverse_single};
 use std::marker::PhantomData;
 
+use crate::accel::bvh::tree::Bvh;
+use crate::accel::bvh::{occlusion, traverse_packet, traverse_single};
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -118,50 +118,45 @@ fn each_intersect<N: Simd8, S: Counter>(
 macro_rules! at_width {
     ($F:ty, $L:ty, $trace:ident($($arg:expr),*)) => {
         match <$F as SimdFloat>::LANES {
-            4 => $trace::<<$L as Level>::F4, _, S>($($arg),*).convert(),
-            8 => $trace::<<$L as Level>::F8, _, S>($($arg),*).convert(),
-            16 => $trace::<<$L as Level>::F16, _, S>($($arg),*).convert(),
-            _ => $trace::<$F, _, S>($($arg),*),
+            4 => $trace::<<$L as Level>::F4>($($arg),*).convert(),
+            8 => $trace::<<$L as Level>::F8>($($arg),*).convert(),
+            16 => $trace::<<$L as Level>::F16>($($arg),*).convert(),
+            _ => $trace::<$F>($($arg),*),
         }
     };
 }
 
 /// The nearest hits of the active lanes of `rays`, in the lanes `G`.
 #[inline(always)]
-fn nearest_in<G: SimdFloat, F: SimdFloat, S: Counter>(
+fn nearest_in<G: SimdFloat>(
     bvh: &Bvh,
-    rays: &RayPacket<F>,
-    stats: &mut S,
+    rays: &RayPacket<impl SimdFloat>,
+    stats: &mut impl Counter,
 ) -> HitPacket<G> {
     traverse_packet::intersect_packet(bvh, &rays.convert::<G>(), stats)
 }
 
 /// The occluded lanes of `rays`, in the lanes `G`.
 #[inline(always)]
-fn occluded_in<G: SimdFloat, F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> G {
+fn occluded_in<G: SimdFloat>(bvh: &Bvh, rays: &RayPacket<impl SimdFloat>, stats: &mut impl Counter) -> G {
     occlusion::occluded_packet(bvh, &rays.convert::<G>(), stats)
 }
 
 /// The nearest hits of the rays of `rays` in `mask`, packed in the lanes `G`.
 #[inline(always)]
-fn nearest_of_rays<G: SimdFloat, R: AsRef<[Ray]>, S: Counter>(
+fn nearest_of_rays<G: SimdFloat>(
     bvh: &Bvh,
-    rays: R,
+    rays: &[Ray],
     mask: u32,
-    stats: &mut S,
+    stats: &mut impl Counter,
 ) -> HitPacket<G> {
-    traverse_packet::intersect_packet(bvh, &RayPacket::<G>::from_rays_masked(rays.as_ref(), mask), stats)
+    traverse_packet::intersect_packet(bvh, &RayPacket::<G>::from_rays_masked(rays, mask), stats)
 }
 
 /// The occluded rays of `rays` in `mask`, packed in the lanes `G`.
 #[inline(always)]
-fn occluded_of_rays<G: SimdFloat, R: AsRef<[Ray]>, S: Counter>(
-    bvh: &Bvh,
-    rays: R,
-    mask: u32,
-    stats: &mut S,
-) -> G {
-    occlusion::occluded_packet(bvh, &RayPacket::<G>::from_rays_masked(rays.as_ref(), mask), stats)
+fn occluded_of_rays<G: SimdFloat>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut impl Counter) -> G {
+    occlusion::occluded_packet(bvh, &RayPacket::<G>::from_rays_masked(rays, mask), stats)
 }
 
 /// The nearest hits of the active lanes of `rays`.
