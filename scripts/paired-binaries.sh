@@ -2,6 +2,8 @@
 # Paired run of two raypack binaries on the triangle matrix: each invocation of
 # `bench traversal` runs one binary on one scene; the binaries alternate (A B,
 # then B A) for ROUNDS rounds, so the machine's drift falls on both alike.
+# OLD and NEW are commands, split at spaces, so one binary can run against
+# itself with other options (`"raypack --triangle barycentric"`).
 # Prints, per scene, ray kind and path (single rays, 8-ray packets), the median
 # of NEW ÷ OLD over the rounds, and the geometric mean of all cells.
 #
@@ -10,7 +12,8 @@
 # Used to check that a build change (profile, crate split) leaves the hot paths
 # as fast as they were (issue 52: within 2%).
 set -euo pipefail
-old=$1 new=$2
+read -ra old <<< "$1"
+read -ra new <<< "$2"
 rounds=${3:-5}
 shift $(( $# >= 3 ? 3 : $# ))
 scenes=("$@")
@@ -19,14 +22,14 @@ if [[ ${#scenes[@]} -eq 0 ]]; then
 fi
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-echo "CPU: $(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2- | sed "s/^ *//"); kernels: $("$new" env | sed -n "s/^isa (kernels) *//p")"
+echo "CPU: $(grep -m1 "model name" /proc/cpuinfo | cut -d: -f2- | sed "s/^ *//"); kernels: $("${new[@]}" env | sed -n "s/^isa (kernels) *//p")"
 for ((r = 0; r < rounds; r++)); do
     for scene in "${scenes[@]}"; do
         if ((r % 2 == 0)); then order=(old new); else order=(new old); fi
         for which in "${order[@]}"; do
-            bin=$old
-            [[ $which == new ]] && bin=$new
-            "$bin" bench traversal "$scene" --size 512x512 --random 65536 --rounds 3 --json \
+            bin=("${old[@]}")
+            [[ $which == new ]] && bin=("${new[@]}")
+            "${bin[@]}" bench traversal "$scene" --size 512x512 --random 65536 --rounds 3 --json \
                 > "$out/$which.$r.${scene//[:\/]/_}.json"
         done
     done

@@ -44,6 +44,10 @@ pub struct Environment {
     /// results stored before it was recorded.
     #[serde(default)]
     pub isa: String,
+    /// The ray/triangle test of the run's scenes (`--triangle`); empty where
+    /// the command does not load scenes, and in results stored before it was recorded.
+    #[serde(default)]
+    pub triangle_test: String,
     /// Transparent huge pages: the selected mode (`always`, `madvise`, `never`) or "unavailable".
     pub thp: String,
     /// Target architecture and operating system.
@@ -84,6 +88,7 @@ impl Environment {
             isa_build: isa_build(),
             isa_cpu: isa_cpu(),
             isa: Isa::default_level().name().to_string(),
+            triangle_test: String::new(),
             thp: thp
                 .as_deref()
                 .and_then(thp_mode)

@@ -10,6 +10,7 @@
 pub mod brute_force;
 pub mod bvh;
 pub mod kind;
+pub mod queries;
 pub mod stats;
 
 pub use brute_force::BruteForce;

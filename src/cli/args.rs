@@ -3,10 +3,12 @@
 //! [`crate::cli`]'s error types only, never from each other.
 
 use std::path::Path;
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use crate::camera::Camera;
 use crate::cli::error::CliError;
+use crate::geometry::triangle::TriangleTest;
 use crate::scene::generate::test_scenes;
 use crate::scene::{self, Scene};
 
@@ -39,11 +41,28 @@ pub fn thread_pool(threads: Option<u16>) -> Result<rayon::ThreadPool, CliError> 
 /// wrong, is the user's to fix (exit 2).
 pub fn load_scene(arg: &Path) -> Result<(Scene, f64), CliError> {
     let start = Instant::now();
-    let scene = match arg.to_str().and_then(test_scenes::from_spec) {
+    let mut scene = match arg.to_str().and_then(test_scenes::from_spec) {
         Some(generated) => generated.map_err(|e| CliError::BadInput(anyhow::anyhow!(e)))?,
         None => scene::load(arg).map_err(|e| CliError::BadInput(e.into()))?,
     };
+    scene.set_triangle_test(triangle_test());
     Ok((scene, start.elapsed().as_secs_f64()))
+}
+
+/// The triangle test of the command line (`--triangle`), which [`load_scene`]
+/// puts every triangle under; set once, by `cli::main`.
+static TRIANGLE_TEST: OnceLock<TriangleTest> = OnceLock::new();
+
+/// Set the triangle test of every scene [`load_scene`] loads from now on
+/// (once; a later call changes nothing).
+pub fn set_triangle_test(test: TriangleTest) {
+    // Set once by main before any scene loads; a second call has nothing to change.
+    let _ = TRIANGLE_TEST.set(test);
+}
+
+/// The triangle test [`load_scene`] uses: the command line's, else the default.
+pub fn triangle_test() -> TriangleTest {
+    TRIANGLE_TEST.get().copied().unwrap_or_default()
 }
 
 /// The scene's camera (or a default one that frames it) at `size` or its own resolution.
@@ -112,7 +131,10 @@ fn image_fits(width: u32, height: u32, available: u64, source: &str) -> Result<(
 /// The environment of this run, with Embree's version and device
 /// configuration when `embree_config` is given and the build has Embree.
 pub fn environment(embree_config: Option<&str>) -> Result<crate::environment::Environment, CliError> {
-    let env = crate::environment::Environment::collect();
+    let env = crate::environment::Environment {
+        triangle_test: triangle_test().name().to_string(),
+        ..crate::environment::Environment::collect()
+    };
     #[cfg(feature = "embree")]
     if let Some(config) = embree_config {
         let device = crate::embree::Device::new(config).map_err(|e| CliError::BadInput(e.into()))?;

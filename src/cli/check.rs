@@ -51,7 +51,7 @@ pub struct CheckArgs {
     /// Image size of the primary rays, `WIDTHxHEIGHT` (default: the scene camera's).
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
-    /// Single rays (rtcIntersect1) or 8-wide packets (rtcIntersect8).
+    /// Single rays (rtcIntersect1), 8-wide packets (rtcIntersect8) or 16-wide (rtcIntersect16).
     #[arg(long, value_enum, default_value_t = Kernel::Packet8)]
     pub kernel: Kernel,
     /// Fail (exit 1) when hit/miss or primitive agreement (ties counted as agreeing) is lower.
@@ -317,6 +317,7 @@ mod with_embree {
         let embree_call = match args.kernel {
             Kernel::Scalar => "rtcIntersect1",
             Kernel::Packet8 => "rtcIntersect8",
+            Kernel::Packet16 => "rtcIntersect16",
         };
         outln!(
             "raypack  {}, {:?} kernel; Embree {embree_call}",

@@ -9,6 +9,7 @@ mod r#gen;
 mod info;
 pub mod render;
 mod report;
+mod robustness;
 mod stats;
 mod stdout;
 mod trace;
@@ -17,6 +18,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::geometry::triangle::TriangleTest;
 use crate::simd::Isa;
 pub use error::{CliError, CliResult};
 
@@ -28,6 +30,11 @@ pub struct Cli {
     /// portable, sse4.2, avx2 or avx512
     #[arg(long, global = true, default_value = "auto", value_parser = clap::value_parser!(Isa))]
     pub isa: Isa,
+    /// Ray/triangle test of every scene loaded: watertight (Woop, Benthin and
+    /// Wald 2013: no ray slips between triangles sharing an edge) or
+    /// barycentric (the lecture's projected test)
+    #[arg(long, global = true, value_enum, default_value_t = TriangleTest::default())]
+    pub triangle: TriangleTest,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -54,6 +61,9 @@ pub enum Command {
     Render(render::Args),
     /// Make one self-contained HTML page of charts from `bench … --json` results.
     Report(report::Args),
+    /// The robustness oracle: rays with known answers through shared edges and
+    /// vertices of closed meshes, grazing, spawned, far and small, against f64.
+    Robustness(robustness::RobustnessArgs),
     /// Ray statistics: with --spd, the counts of the SPD's test procedure as JSON.
     Stats(stats::Args),
 }
@@ -68,6 +78,7 @@ pub fn main() -> ExitCode {
         eprintln!("error: --isa {}: {e}", cli.isa);
         return ExitCode::from(EXIT_BAD_INPUT);
     }
+    args::set_triangle_test(cli.triangle);
     // A run stopped by Ctrl-C or `timeout` leaves no temporary output behind.
     if let Err(e) = crate::atomic_file::remove_temporaries_on_signals() {
         eprintln!("warning: cannot watch for signals ({e}): an interrupted run may leave a .tmp file");
@@ -81,6 +92,7 @@ pub fn main() -> ExitCode {
         Command::Trace(args) => trace::run(args),
         Command::Render(args) => render::run(args),
         Command::Report(args) => report::run(args),
+        Command::Robustness(args) => robustness::run(args),
         Command::Stats(args) => stats::run(args),
     };
     match result {

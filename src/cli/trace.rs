@@ -2,13 +2,20 @@
 //! trace rays from a CSV file and write the nearest hit of each, so raypack can
 //! be compared with any engine (formats in [`crate::compare::csv`]); with
 //! `--diff OTHER.csv`, classify the rays on which another engine's hits differ.
+//! `--query all` writes every crossing of each ray instead (`ray,t,prim`, a
+//! hit at a shared edge or vertex once), `--query inside` whether each ray's
+//! origin lies inside the scene's closed meshes (`inside`, 1 or 0), both from
+//! [`crate::accel::queries`].
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use clap::Args;
 
-use crate::accel::AccelKind;
+use rayon::prelude::*;
+
+use crate::accel::queries::{all_hits, is_inside};
+use crate::accel::{Accel, AccelKind};
 use crate::atomic_file::AtomicFile;
 use crate::cli::args::load_scene;
 use crate::cli::error::{CliError, CliResult};
@@ -18,6 +25,7 @@ use crate::compare::diff_image::class_name;
 use crate::compare::{Agreement, AgreementOptions, DisagreementKind, classify_rays};
 use crate::compare::{Kernel, trace_rays};
 use crate::engine::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Engine};
+use crate::geometry::Primitive;
 use crate::plural;
 use crate::ray::{Hit, Ray};
 use crate::scene::Scene;
@@ -48,14 +56,63 @@ pub struct TraceArgs {
     /// Embree scene mode.
     #[arg(long, value_enum, default_value_t = EmbreeMode::Robust)]
     pub embree_mode: EmbreeMode,
+    /// What to ask of each ray: its nearest hit, all its crossings, or
+    /// whether its origin is inside the closed meshes.
+    #[arg(long, value_enum, default_value_t = Query::Nearest)]
+    pub query: Query,
     /// Another engine's hits on the same rays (`t,prim` CSV): classify every
     /// ray on which they differ from these, as `check` does, and print the counts.
     #[arg(long)]
     pub diff: Option<PathBuf>,
 }
 
+/// What `trace` asks of each ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Query {
+    /// The nearest hit (`t,prim`).
+    Nearest,
+    /// Every crossing, nearest first (`ray,t,prim`).
+    All,
+    /// Whether the ray's origin is inside the closed meshes (`inside`).
+    Inside,
+}
+
+/// The answers of `query` for every ray, as CSV text.
+fn answers<A: Accel>(accel: &A, prims: &[Primitive], rays: &[Ray], query: Query) -> String {
+    let mut csv = String::new();
+    match query {
+        Query::Nearest => unreachable!("nearest hits go through trace_rays"),
+        Query::All => {
+            let all: Vec<Vec<Hit>> = rays.par_iter().map(|r| all_hits(accel, prims, r)).collect();
+            csv.push_str("ray,t,prim\n");
+            for (i, hits) in all.iter().enumerate() {
+                for h in hits {
+                    csv.push_str(&format!("{i},{},{}\n", h.t, h.prim));
+                }
+            }
+        }
+        Query::Inside => {
+            let inside: Vec<bool> = rays
+                .par_iter()
+                .map(|r| is_inside(accel, prims, r.origin))
+                .collect();
+            csv.push_str("inside\n");
+            for i in inside {
+                csv.push_str(if i { "1\n" } else { "0\n" });
+            }
+        }
+    }
+    csv
+}
+
 /// Run `trace`.
 pub fn run(args: TraceArgs) -> CliResult {
+    if args.query != Query::Nearest && args.diff.is_some() {
+        return Err(CliError::BadInput(anyhow::anyhow!(
+            "--diff compares nearest hits: it cannot go with --query {:?}",
+            args.query
+        )));
+    }
     let (scene, _) = load_scene(&args.scene)?;
     let rays = read_rays(&args.rays).map_err(|e| CliError::BadInput(e.into()))?;
     let theirs = match &args.diff {
@@ -77,6 +134,26 @@ pub fn run(args: TraceArgs) -> CliResult {
     // Claim the output before tracing, so an unwritable path fails at once.
     let out = AtomicFile::create(&args.out)?;
     let start = Instant::now();
+    if args.query != Query::Nearest {
+        let csv = match args.engine {
+            Engine::Raypack => answers(
+                &args.accel.build(&scene.primitives),
+                &scene.primitives,
+                &rays,
+                args.query,
+            ),
+            Engine::Embree => embree_answers(&scene, &rays, &args)?,
+        };
+        out.commit(csv.as_bytes())?;
+        eprintln!(
+            "answered {:?} for {} in {:.3} s (with build); wrote {}",
+            args.query,
+            plural::count(rays.len() as u64, "ray", "rays"),
+            start.elapsed().as_secs_f64(),
+            args.out.display()
+        );
+        return Ok(());
+    }
     let hits = match args.engine {
         Engine::Raypack => trace_rays(&args.accel.build(&scene.primitives), &rays, args.kernel),
         Engine::Embree => embree_hits(&scene, &rays, &args)?,
@@ -134,6 +211,17 @@ fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &
 fn embree_hits(scene: &Scene, rays: &[Ray], args: &TraceArgs) -> Result<Vec<Hit>, CliError> {
     let embree = crate::cli::args::embree_scene(scene, &args.embree_config, args.embree_mode)?;
     Ok(trace_rays(&embree, rays, args.kernel))
+}
+
+#[cfg(feature = "embree")]
+fn embree_answers(scene: &Scene, rays: &[Ray], args: &TraceArgs) -> Result<String, CliError> {
+    let embree = crate::cli::args::embree_scene(scene, &args.embree_config, args.embree_mode)?;
+    Ok(answers(&embree, &scene.primitives, rays, args.query))
+}
+
+#[cfg(not(feature = "embree"))]
+fn embree_answers(_: &Scene, _: &[Ray], _: &TraceArgs) -> Result<String, CliError> {
+    Err(CliError::BadInput(anyhow::anyhow!(crate::engine::EMBREE_MISSING)))
 }
 
 #[cfg(not(feature = "embree"))]

@@ -4,8 +4,9 @@
 use rayon::prelude::*;
 
 use crate::accel::Accel;
-use crate::packet::RayPacket8;
+use crate::packet::RayPacket;
 use crate::ray::{Hit, Ray};
+use crate::simd::SimdFloat;
 
 /// Rays handed to one rayon task: enough to amortise scheduling.
 const CHUNK: usize = 256;
@@ -18,6 +19,19 @@ pub enum Kernel {
     Scalar,
     /// Eight consecutive rays per packet (`Accel::intersect_packet`).
     Packet8,
+    /// Sixteen consecutive rays per packet.
+    Packet16,
+}
+
+impl Kernel {
+    /// The name on the command line and in results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Scalar => "scalar",
+            Kernel::Packet8 => "packet8",
+            Kernel::Packet16 => "packet16",
+        }
+    }
 }
 
 /// The nearest hit of every ray, in order.
@@ -31,16 +45,20 @@ pub fn trace_rays<A: Accel>(accel: &A, rays: &[Ray], kernel: Kernel) -> Vec<Hit>
                     *hit = accel.intersect(ray);
                 }
             }
-            Kernel::Packet8 => {
-                for (hits, rays) in hits.chunks_mut(8).zip(rays.chunks(8)) {
-                    let packet = accel.intersect_packet(&RayPacket8::from_rays(rays));
-                    for (i, hit) in hits.iter_mut().enumerate() {
-                        *hit = packet.hit(i);
-                    }
-                }
-            }
+            Kernel::Packet8 => trace_packets::<_, wide::f32x8>(accel, rays, hits),
+            Kernel::Packet16 => trace_packets::<_, wide::f32x16>(accel, rays, hits),
         });
     hits
+}
+
+/// `rays` in packets of `F::LANES` consecutive rays (the last one partial).
+fn trace_packets<A: Accel, F: SimdFloat>(accel: &A, rays: &[Ray], hits: &mut [Hit]) {
+    for (hits, rays) in hits.chunks_mut(F::LANES).zip(rays.chunks(F::LANES)) {
+        let packet = accel.intersect_packet(&RayPacket::<F>::from_rays(rays));
+        for (i, hit) in hits.iter_mut().enumerate() {
+            *hit = packet.hit(i);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -64,15 +82,17 @@ mod tests {
             9,
         );
         let scalar = trace_rays(&accel, &rays, Kernel::Scalar);
-        let packet = trace_rays(&accel, &rays, Kernel::Packet8);
         assert_eq!(scalar.len(), rays.len());
-        for (i, ray) in rays.iter().enumerate() {
-            assert_eq!(scalar[i], accel.intersect(ray));
-            assert_eq!(
-                (packet[i].t, packet[i].prim),
-                (scalar[i].t, scalar[i].prim),
-                "ray {i}"
-            );
+        for kernel in [Kernel::Packet8, Kernel::Packet16] {
+            let packet = trace_rays(&accel, &rays, kernel);
+            for (i, ray) in rays.iter().enumerate() {
+                assert_eq!(scalar[i], accel.intersect(ray));
+                assert_eq!(
+                    (packet[i].t, packet[i].prim),
+                    (scalar[i].t, scalar[i].prim),
+                    "{kernel:?} ray {i}"
+                );
+            }
         }
         assert!(scalar.iter().any(Hit::is_hit) && scalar.iter().any(|h| !h.is_hit()));
     }

@@ -9,6 +9,8 @@ pub mod batch;
 pub mod csv;
 pub mod diff_image;
 pub mod ray_sets;
+pub mod reference_f64;
+pub mod robustness;
 
 pub use agreement::{
     Agreement, AgreementOptions, Disagreement, DisagreementKind, RayClass, classify, classify_rays,

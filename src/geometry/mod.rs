@@ -13,6 +13,7 @@ pub mod polygon;
 pub mod sphere;
 pub mod transformed;
 pub mod triangle;
+pub mod triangle_watertight;
 
 use glam::Vec3;
 
@@ -21,7 +22,7 @@ pub use plane::Plane;
 pub use polygon::Polygon;
 pub use sphere::Sphere;
 pub use transformed::Transformed;
-pub use triangle::Triangle;
+pub use triangle::{Triangle, TriangleTest};
 
 use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
@@ -239,6 +240,15 @@ impl Primitive {
             Primitive::Polygon(p) => Some(p.bounds()),
             Primitive::Cone(c) => Some(c.bounds()),
             Primitive::Transformed(t) => t.bounds(),
+        }
+    }
+
+    /// Put every triangle in this primitive (a transformed one included) under `test`.
+    pub fn set_triangle_test(&mut self, test: TriangleTest) {
+        match self {
+            Primitive::Triangle(t) => *t = t.with_test(test),
+            Primitive::Transformed(t) => t.set_triangle_test(test),
+            _ => {}
         }
     }
 

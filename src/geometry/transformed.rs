@@ -10,6 +10,7 @@
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use crate::bounds::Aabb;
+use crate::geometry::triangle::TriangleTest;
 use crate::geometry::{GeometryError, Intersect, Primitive};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, NO_HIT, Ray};
@@ -103,6 +104,12 @@ impl Transformed {
     /// The object-to-world matrix M.
     pub fn matrix(&self) -> Mat4 {
         self.to_world
+    }
+
+    /// Put every triangle of the object under `test` (the same shape under
+    /// another kernel: the transform and bounds stay valid).
+    pub fn set_triangle_test(&mut self, test: TriangleTest) {
+        self.object.set_triangle_test(test);
     }
 
     /// World bounds: the object's box corners mapped by M (None for unbounded objects).

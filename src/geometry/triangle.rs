@@ -19,6 +19,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
+use crate::geometry::triangle_watertight::WatertightTriangle;
 use crate::geometry::{
     BlockIntersect, Intersect, ShapeLanes, block_lanes, usable_denominator, usable_denominators,
 };
@@ -38,16 +39,44 @@ const DEGENERATE: u32 = 3;
 /// The two axes kept by the projection that drops axis `k`: `(k + 1) % 3`, `(k + 2) % 3`.
 const OTHER_AXES: [[usize; 2]; 3] = [[1, 2], [2, 0], [0, 1]];
 
-/// A triangle: its vertices, its projected-barycentric constants and the scale
-/// of its normal. 80 bytes (36 of vertices, 40 of constants, 4 of scale).
+/// Which ray/triangle test a triangle's kernels run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TriangleTest {
+    /// The lecture's projected barycentric test (this file), with an edge
+    /// margin of `EDGE_EPSILON` (2⁻²⁰): fewest operations, but a ray through a
+    /// shared edge or vertex may slip between the two triangles' roundings.
+    Barycentric,
+    /// The watertight test of Woop, Benthin and Wald 2013
+    /// ([`triangle_watertight`](crate::geometry::triangle_watertight)): no ray
+    /// passes between triangles that share an edge.
+    #[default]
+    Watertight,
+}
+
+impl TriangleTest {
+    /// The name on the command line and in results.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Barycentric => "barycentric",
+            Self::Watertight => "watertight",
+        }
+    }
+}
+
+/// A triangle: its vertices, its projected-barycentric constants, the scale
+/// of its normal and the test its kernels run. 84 bytes (36 of vertices, 40
+/// of constants, 4 of scale, 1 of test, 3 of padding).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
     /// Vertices `a, b, c` as given.
     vertices: [Vec3; 3],
-    /// What the kernels read.
+    /// What the projected test reads.
     projected: ProjectedTriangle,
     /// Scale of the unit normal: `n_k / |n|` (its sign fixes the orientation).
     n_scale: f32,
+    /// The test the kernels run.
+    test: TriangleTest,
 }
 
 /// The constants of the projected barycentric test, all the kernels read: a
@@ -93,8 +122,9 @@ impl ProjectedTriangle {
 }
 
 impl Triangle {
-    /// Precompute the projected-barycentric constants of triangle `a, b, c`.
-    /// A zero-area (or non-finite) triangle is kept but never hit.
+    /// Triangle `a, b, c` under the default test ([`TriangleTest::default`]),
+    /// with the projected-barycentric constants precomputed. A zero-area (or
+    /// non-finite) triangle is kept but never hit.
     pub fn new(a: Vec3, b: Vec3, c: Vec3) -> Self {
         let e1 = b - a;
         let e2 = c - a;
@@ -117,6 +147,7 @@ impl Triangle {
                 vertices: [a, b, c],
                 projected: ProjectedTriangle::ZERO_AREA,
                 n_scale: 0.0,
+                test: TriangleTest::default(),
             };
         }
         Self {
@@ -134,12 +165,33 @@ impl Triangle {
                 c_nv: e1[ku] / det,
             },
             n_scale: nk / n.length(),
+            test: TriangleTest::default(),
         }
     }
 
-    /// The constants the kernels read.
+    /// The same triangle under `test`.
+    pub fn with_test(self, test: TriangleTest) -> Self {
+        Self { test, ..self }
+    }
+
+    /// The test the kernels run.
+    pub fn test(&self) -> TriangleTest {
+        self.test
+    }
+
+    /// The constants the projected test reads.
     pub fn projected(&self) -> &ProjectedTriangle {
         &self.projected
+    }
+
+    /// What the watertight test reads: the vertices, or a triangle no ray
+    /// hits if this one is degenerate (which both tests miss alike).
+    pub fn watertight(&self) -> WatertightTriangle {
+        if self.is_degenerate() {
+            return WatertightTriangle::NEVER_HIT;
+        }
+        let [a, b, c] = self.vertices;
+        WatertightTriangle::new(a, b, c)
     }
 
     /// Vertices `a, b, c`.
@@ -188,12 +240,18 @@ impl Triangle {
 impl Intersect for Triangle {
     #[inline(always)]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
-        self.projected.intersect(ray, prim, hit)
+        match self.test {
+            TriangleTest::Barycentric => self.projected.intersect(ray, prim, hit),
+            TriangleTest::Watertight => self.watertight().intersect(ray, prim, hit),
+        }
     }
 
     #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
-        self.projected.intersect_packet(rays, prim, hits);
+        match self.test {
+            TriangleTest::Barycentric => self.projected.intersect_packet(rays, prim, hits),
+            TriangleTest::Watertight => self.watertight().intersect_packet(rays, prim, hits),
+        }
     }
 }
 

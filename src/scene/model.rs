@@ -7,6 +7,7 @@ use glam::Vec3;
 
 use crate::bounds::Aabb;
 use crate::camera::{Camera, CameraError};
+use crate::geometry::triangle::TriangleTest;
 use crate::geometry::{Primitive, PrimitiveKind};
 
 /// A Phong/Whitted surface, as NFF's `f` line describes it. 32 bytes.
@@ -150,6 +151,13 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Every triangle of the scene under `test`.
+    pub fn set_triangle_test(&mut self, test: TriangleTest) {
+        for prim in &mut self.primitives {
+            prim.set_triangle_test(test);
+        }
+    }
+
     /// Append a primitive with a material; returns its index.
     pub fn push(&mut self, prim: Primitive, material: u32) -> u32 {
         let index = self.primitives.len() as u32;

@@ -12,6 +12,7 @@ mod isa;
 mod sphere_block;
 mod sphere_inside_only;
 mod triangle_block;
+mod triangle_watertight;
 
 /// A concave L in its plane's (x, y): the 2×2 square with the upper-right
 /// quarter cut out, counter-clockwise.

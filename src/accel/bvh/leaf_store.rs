@@ -9,23 +9,28 @@
 use rayon::prelude::*;
 
 use crate::accel::bvh::leaf::{
-    BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, SphereBlock, TriangleBlock, intersect_blocks,
+    BLOCK_SIZE, LeafItem, LeafPrim, LeafRef, SphereBlock, TriangleBlock, WatertightBlock, intersect_blocks,
 };
 use crate::accel::bvh::node::Node;
 use crate::accel::stats::Counter;
-use crate::geometry::Primitive;
-use crate::geometry::triangle::MAX_BLOCK_ID;
+use std::ops::Range;
+
+use crate::geometry::triangle::{MAX_BLOCK_ID, ProjectedTriangle, TriangleTest};
+use crate::geometry::triangle_watertight::WatertightTriangle;
+use crate::geometry::{Primitive, Sphere};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
 
-/// The leaves' primitives. 96 bytes plus the lists.
+/// The leaves' primitives. 120 bytes plus the lists.
 #[derive(Clone, Debug, Default)]
 pub struct LeafStore {
     /// The records of leaves that are neither all triangles nor all spheres.
     records: Vec<LeafPrim>,
-    /// The triangles of all-triangle leaves.
+    /// The triangles of all-triangle leaves under the projected test.
     triangle_blocks: Vec<TriangleBlock>,
+    /// The triangles of all-triangle leaves under the watertight test.
+    watertight_blocks: Vec<WatertightBlock>,
     /// The spheres of all-sphere leaves.
     sphere_blocks: Vec<SphereBlock>,
     /// The primitives `records` refer to rather than hold (see [`LeafPrim`]).
@@ -35,8 +40,8 @@ pub struct LeafStore {
 /// What a leaf holds, which decides how it is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Holds {
-    /// Triangles only: [`TriangleBlock`]s.
-    Triangles,
+    /// Triangles only, all under one test: [`TriangleBlock`]s or [`WatertightBlock`]s.
+    Triangles(TriangleTest),
     /// Spheres only: [`SphereBlock`]s.
     Spheres,
     /// Anything else: [`LeafPrim`] records.
@@ -48,13 +53,14 @@ impl Holds {
     /// triangles go into blocks only if their indices fit one ([`MAX_BLOCK_ID`]).
     fn of<'a>(mut prims: impl Iterator<Item = (&'a Primitive, u32)>) -> Self {
         let first = match prims.next() {
-            Some((Primitive::Triangle(_), id)) if id <= MAX_BLOCK_ID => Holds::Triangles,
+            Some((Primitive::Triangle(t), id)) if id <= MAX_BLOCK_ID => Holds::Triangles(t.test()),
             Some((Primitive::Sphere(_), _)) => Holds::Spheres,
             _ => return Holds::Mixed,
         };
-        let same = |(p, id): (&Primitive, u32)| match first {
-            Holds::Triangles => matches!(p, Primitive::Triangle(_)) && id <= MAX_BLOCK_ID,
-            _ => matches!(p, Primitive::Sphere(_)),
+        let same = |(p, id): (&Primitive, u32)| match (first, p) {
+            (Holds::Triangles(test), Primitive::Triangle(t)) => t.test() == test && id <= MAX_BLOCK_ID,
+            (Holds::Spheres, Primitive::Sphere(_)) => true,
+            _ => false,
         };
         if prims.all(same) { first } else { Holds::Mixed }
     }
@@ -82,7 +88,7 @@ impl LeafStore {
             .collect();
         // Lay the blocks out leaf by leaf, each block a run of leaf primitives.
         let mut store = Self::default();
-        let (mut triangle_runs, mut sphere_runs) = (Vec::new(), Vec::new());
+        let (mut triangle_runs, mut watertight_runs, mut sphere_runs) = (Vec::new(), Vec::new(), Vec::new());
         for (node, holds) in leaves.iter_mut().zip(holds) {
             let range = range_of(node);
             let count = range.len();
@@ -93,11 +99,19 @@ impl LeafStore {
                     .map(move |start| start..(start + BLOCK_SIZE).min(range.end))
             };
             let leaf = match holds {
-                Holds::Triangles => {
+                Holds::Triangles(TriangleTest::Barycentric) => {
                     let at = triangle_runs.len();
                     triangle_runs.extend(runs());
                     LeafRef::Triangles {
                         blocks: at..triangle_runs.len(),
+                        count,
+                    }
+                }
+                Holds::Triangles(TriangleTest::Watertight) => {
+                    let at = watertight_runs.len();
+                    watertight_runs.extend(runs());
+                    LeafRef::Watertight {
+                        blocks: at..watertight_runs.len(),
                         count,
                     }
                 }
@@ -113,30 +127,19 @@ impl LeafStore {
             };
             (node.first, node.meta) = leaf.encode();
         }
-        // Fill the blocks in parallel, in place (an indexed collect); a block's
-        // lanes go on the stack, the last repeated into unused slots.
-        store.triangle_blocks = triangle_runs
-            .par_iter()
-            .map(|run| {
-                let lanes: [_; BLOCK_SIZE] =
-                    std::array::from_fn(|i| match input(order[run.start + i.min(run.len() - 1)]) {
-                        (Primitive::Triangle(t), id) => (*t.projected(), id),
-                        _ => unreachable!("a triangle leaf holds triangles"),
-                    });
-                TriangleBlock::new(&lanes[..run.len()])
-            })
-            .collect();
-        store.sphere_blocks = sphere_runs
-            .par_iter()
-            .map(|run| {
-                let lanes: [_; BLOCK_SIZE] =
-                    std::array::from_fn(|i| match input(order[run.start + i.min(run.len() - 1)]) {
-                        (Primitive::Sphere(s), id) => (*s, id),
-                        _ => unreachable!("a sphere leaf holds spheres"),
-                    });
-                SphereBlock::new(&lanes[..run.len()])
-            })
-            .collect();
+        // Fill the blocks in parallel, each from its run of leaf primitives.
+        store.triangle_blocks = fill_blocks(&triangle_runs, order, &input, |p| match p {
+            Primitive::Triangle(t) => Some(*t.projected()),
+            _ => None,
+        });
+        store.watertight_blocks = fill_blocks(&watertight_runs, order, &input, |p| match p {
+            Primitive::Triangle(t) => Some(t.watertight()),
+            _ => None,
+        });
+        store.sphere_blocks = fill_blocks(&sphere_runs, order, &input, |p| match p {
+            Primitive::Sphere(s) => Some(*s),
+            _ => None,
+        });
         store
     }
 
@@ -165,6 +168,9 @@ impl LeafStore {
             LeafRef::Triangles { blocks, count } => {
                 intersect_blocks::<_, N, S>(&self.triangle_blocks[blocks], count, ray, hit, any_hit, stats)
             }
+            LeafRef::Watertight { blocks, count } => {
+                intersect_blocks::<_, N, S>(&self.watertight_blocks[blocks], count, ray, hit, any_hit, stats)
+            }
             LeafRef::Spheres { blocks, count } => {
                 intersect_blocks::<_, N, S>(&self.sphere_blocks[blocks], count, ray, hit, any_hit, stats)
             }
@@ -188,16 +194,15 @@ impl LeafStore {
     #[inline(always)]
     pub fn items(&self, leaf: LeafRef) -> LeafItems<'_> {
         match leaf {
-            LeafRef::Triangles { blocks, count } => LeafItems::Triangles {
-                blocks: &self.triangle_blocks[blocks],
-                next: 0,
-                count,
-            },
-            LeafRef::Spheres { blocks, count } => LeafItems::Spheres {
-                blocks: &self.sphere_blocks[blocks],
-                next: 0,
-                count,
-            },
+            LeafRef::Triangles { blocks, count } => {
+                LeafItems::Triangles(BlockLanes::new(&self.triangle_blocks[blocks], count))
+            }
+            LeafRef::Watertight { blocks, count } => {
+                LeafItems::Watertight(BlockLanes::new(&self.watertight_blocks[blocks], count))
+            }
+            LeafRef::Spheres { blocks, count } => {
+                LeafItems::Spheres(BlockLanes::new(&self.sphere_blocks[blocks], count))
+            }
             LeafRef::Prims(range) => LeafItems::Records(self.records[range].iter()),
         }
     }
@@ -217,21 +222,16 @@ impl LeafStore {
     /// prefetch; None for records, which are read one by one.
     #[inline(always)]
     pub fn block_bytes(&self, leaf: LeafRef) -> Option<(*const u8, usize)> {
+        fn span<B>(list: &[B], blocks: Range<usize>) -> Option<(*const u8, usize)> {
+            Some((
+                list.as_ptr().wrapping_add(blocks.start).cast::<u8>(),
+                blocks.len() * size_of::<B>(),
+            ))
+        }
         match leaf {
-            LeafRef::Triangles { blocks, .. } => Some((
-                self.triangle_blocks
-                    .as_ptr()
-                    .wrapping_add(blocks.start)
-                    .cast::<u8>(),
-                blocks.len() * size_of::<TriangleBlock>(),
-            )),
-            LeafRef::Spheres { blocks, .. } => Some((
-                self.sphere_blocks
-                    .as_ptr()
-                    .wrapping_add(blocks.start)
-                    .cast::<u8>(),
-                blocks.len() * size_of::<SphereBlock>(),
-            )),
+            LeafRef::Triangles { blocks, .. } => span(&self.triangle_blocks, blocks),
+            LeafRef::Watertight { blocks, .. } => span(&self.watertight_blocks, blocks),
+            LeafRef::Spheres { blocks, .. } => span(&self.sphere_blocks, blocks),
             LeafRef::Prims(_) => None,
         }
     }
@@ -240,33 +240,107 @@ impl LeafStore {
     pub fn bytes(&self) -> usize {
         self.records.len() * size_of::<LeafPrim>()
             + self.triangle_blocks.len() * size_of::<TriangleBlock>()
+            + self.watertight_blocks.len() * size_of::<WatertightBlock>()
             + self.sphere_blocks.len() * size_of::<SphereBlock>()
             + self.others.len() * size_of::<Primitive>()
     }
+}
+
+/// A block of lanes holding `T`s, built from their primitive indices.
+trait FromLanes<T> {
+    /// The block of `lanes` (shape, primitive index).
+    fn from_lanes(lanes: &[(T, u32)]) -> Self;
+}
+
+impl FromLanes<ProjectedTriangle> for TriangleBlock {
+    fn from_lanes(lanes: &[(ProjectedTriangle, u32)]) -> Self {
+        Self::new(lanes)
+    }
+}
+
+impl FromLanes<WatertightTriangle> for WatertightBlock {
+    fn from_lanes(lanes: &[(WatertightTriangle, u32)]) -> Self {
+        Self::new(lanes)
+    }
+}
+
+impl FromLanes<Sphere> for SphereBlock {
+    fn from_lanes(lanes: &[(Sphere, u32)]) -> Self {
+        Self::new(lanes)
+    }
+}
+
+/// One block per run of `order` positions, filled in parallel and in place
+/// (an indexed collect): `shape` reads each primitive's lane data, which a
+/// block's leaf always has. A block's lanes go on the stack first, the last
+/// repeated into unused slots.
+fn fill_blocks<'p, T: Copy + Send, B: FromLanes<T> + Send>(
+    runs: &[Range<usize>],
+    order: &[u32],
+    input: &(impl Fn(u32) -> (&'p Primitive, u32) + Sync),
+    shape: impl Fn(&Primitive) -> Option<T> + Sync,
+) -> Vec<B> {
+    runs.par_iter()
+        .map(|run| {
+            let lanes: [(T, u32); BLOCK_SIZE] = std::array::from_fn(|i| {
+                let (prim, id) = input(order[run.start + i.min(run.len() - 1)]);
+                (
+                    shape(prim).expect("a block's leaf holds its kind of primitive"),
+                    id,
+                )
+            });
+            B::from_lanes(&lanes[..run.len()])
+        })
+        .collect()
 }
 
 /// The primitives of a leaf, one at a time ([`LeafStore::items`]).
 pub enum LeafItems<'a> {
     /// Records.
     Records(std::slice::Iter<'a, LeafPrim>),
-    /// The first `count` lanes of triangle blocks; `next` is the next lane.
-    Triangles {
-        /// The blocks.
-        blocks: &'a [TriangleBlock],
-        /// The next lane, counted over all blocks.
-        next: usize,
-        /// Triangles in the blocks.
-        count: usize,
-    },
-    /// The first `count` lanes of sphere blocks; `next` is the next lane.
-    Spheres {
-        /// The blocks.
-        blocks: &'a [SphereBlock],
-        /// The next lane, counted over all blocks.
-        next: usize,
-        /// Spheres in the blocks.
-        count: usize,
-    },
+    /// The lanes of triangle blocks.
+    Triangles(BlockLanes<'a, TriangleBlock>),
+    /// The lanes of watertight triangle blocks.
+    Watertight(BlockLanes<'a, WatertightBlock>),
+    /// The lanes of sphere blocks.
+    Spheres(BlockLanes<'a, SphereBlock>),
+}
+
+/// The first `count` lanes of a leaf's blocks (every block full but the
+/// last), one at a time: each block and the lane in it.
+pub struct BlockLanes<'a, B> {
+    /// The blocks.
+    blocks: &'a [B],
+    /// The next lane, counted over all blocks.
+    next: usize,
+    /// Lanes in use.
+    count: usize,
+}
+
+impl<'a, B> BlockLanes<'a, B> {
+    /// The first `count` lanes of `blocks`.
+    #[inline(always)]
+    fn new(blocks: &'a [B], count: usize) -> Self {
+        Self {
+            blocks,
+            next: 0,
+            count,
+        }
+    }
+}
+
+impl<'a, B> Iterator for BlockLanes<'a, B> {
+    type Item = (&'a B, usize);
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<(&'a B, usize)> {
+        if self.next == self.count {
+            return None;
+        }
+        let lane = self.next;
+        self.next += 1;
+        Some((&self.blocks[lane / BLOCK_SIZE], lane % BLOCK_SIZE))
+    }
 }
 
 impl<'a> Iterator for LeafItems<'a> {
@@ -276,28 +350,9 @@ impl<'a> Iterator for LeafItems<'a> {
     fn next(&mut self) -> Option<LeafItem<'a>> {
         match self {
             LeafItems::Records(records) => records.next().map(LeafItem::Record),
-            LeafItems::Triangles { blocks, next, count } => {
-                if *next == *count {
-                    return None;
-                }
-                let lane = *next;
-                *next += 1;
-                Some(LeafItem::TriangleLane(
-                    &blocks[lane / BLOCK_SIZE],
-                    lane % BLOCK_SIZE,
-                ))
-            }
-            LeafItems::Spheres { blocks, next, count } => {
-                if *next == *count {
-                    return None;
-                }
-                let lane = *next;
-                *next += 1;
-                Some(LeafItem::SphereLane(
-                    &blocks[lane / BLOCK_SIZE],
-                    lane % BLOCK_SIZE,
-                ))
-            }
+            LeafItems::Triangles(lanes) => lanes.next().map(|(b, i)| LeafItem::TriangleLane(b, i)),
+            LeafItems::Watertight(lanes) => lanes.next().map(|(b, i)| LeafItem::WatertightLane(b, i)),
+            LeafItems::Spheres(lanes) => lanes.next().map(|(b, i)| LeafItem::SphereLane(b, i)),
         }
     }
 }
@@ -315,7 +370,8 @@ mod tests {
         let tri = Primitive::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
         let ball = Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0));
         let holds = |prims: &[(&Primitive, u32)]| Holds::of(prims.iter().copied());
-        assert_eq!(holds(&[(&tri, 0), (&tri, MAX_BLOCK_ID)]), Holds::Triangles);
+        let triangles = Holds::Triangles(TriangleTest::default());
+        assert_eq!(holds(&[(&tri, 0), (&tri, MAX_BLOCK_ID)]), triangles);
         assert_eq!(holds(&[(&tri, MAX_BLOCK_ID + 1)]), Holds::Mixed);
         assert_eq!(holds(&[(&tri, 0), (&tri, u32::MAX)]), Holds::Mixed);
         assert_eq!(holds(&[(&ball, u32::MAX), (&ball, 0)]), Holds::Spheres);

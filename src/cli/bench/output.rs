@@ -117,8 +117,13 @@ impl<'a> Run<'a> {
             outln!("{NOISY_NOTE}")?;
         }
         let env = &result.environment;
+        let triangles = if env.triangle_test.is_empty() {
+            String::new()
+        } else {
+            format!(", {} triangles", env.triangle_test)
+        };
         outln!(
-            "(measured on {}, {} threads, kernels {}, commit {}, {}; `raypack env` for the rest)",
+            "(measured on {}, {} threads, kernels {}{triangles}, commit {}, {}; `raypack env` for the rest)",
             env.cpu_model,
             env.threads,
             env.isa_label(),

@@ -31,6 +31,7 @@
 //! mountain's `--seed` is the SPD's mountain number. Each file starts with `#`
 //! comments saying what it is and the command that made it.
 
+pub mod closed_mesh;
 mod gears;
 mod jacks;
 mod lattice;

@@ -1,0 +1,232 @@
+//! `raypack robustness [--shape S …] [--json]`: the robustness oracle
+//! ([`crate::compare::robustness`]): rays whose right answer is known by
+//! construction, through the shared edges and vertices of closed meshes,
+//! grazing, spawned from the surface, far from the origin and tiny, and
+//! against a double-precision reference; leaks, false hits, self-hits and t
+//! error per category and engine. The engines: raypack's BVH with each
+//! triangle test, in single rays and 8- and 16-wide packets; with the
+//! `embree` feature, Embree with its default flags and with
+//! `RTC_SCENE_FLAG_ROBUST`. Then the all-hits and inside/outside queries
+//! under each triangle test. Exits 1 if an engine of raypack's default
+//! triangle test leaks or hits itself, or a query under it goes wrong.
+
+use clap::Args;
+use glam::Vec3;
+
+use crate::accel::Bvh;
+use crate::cli::error::{CliError, CliResult};
+use crate::cli::stdout::outln;
+use crate::compare::robustness::{self, Engine, Row, Sizes};
+use crate::compare::{Kernel, trace_rays};
+use crate::environment::Environment;
+use crate::geometry::triangle::TriangleTest;
+use crate::geometry::{Primitive, Triangle};
+use crate::scene::generate::closed_mesh::ClosedShape;
+
+/// Options of `robustness`.
+#[derive(Args, Debug)]
+pub struct RobustnessArgs {
+    /// Meshes to aim at (default: all).
+    #[arg(long, value_enum)]
+    pub shape: Vec<ClosedShape>,
+    /// Primary rays per mesh and placement whose hits spawn secondary rays.
+    #[arg(long, default_value_t = Sizes::default().spawn_points)]
+    pub spawn_points: usize,
+    /// Random rays per mesh against the f64 reference.
+    #[arg(long, default_value_t = Sizes::default().random_rays)]
+    pub random_rays: usize,
+    /// Points (and rays from them) per mesh for the all-hits and
+    /// inside/outside queries, against answers known by construction.
+    #[arg(long, default_value_t = 10_000)]
+    pub query_points: usize,
+    /// Seed of the sampled rays.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Print every row (each mesh and placement), not only the totals.
+    #[arg(long)]
+    pub all_rows: bool,
+    /// Print one JSON object instead of the tables.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// raypack's BVH over `triangles` under `test`, traced with `kernel`.
+fn raypack(test: TriangleTest, kernel: Kernel) -> Engine<'static> {
+    Engine {
+        name: format!("raypack {} {}", test.name(), kernel.name()),
+        trace: Box::new(move |triangles: &[[Vec3; 3]], rays| {
+            let prims: Vec<Primitive> = triangles
+                .iter()
+                .map(|&[a, b, c]| Primitive::Triangle(Triangle::new(a, b, c).with_test(test)))
+                .collect();
+            trace_rays(&Bvh::new(&prims), rays, kernel)
+        }),
+    }
+}
+
+/// Embree (with `robust` or its default flags) over `triangles`, single rays.
+#[cfg(feature = "embree")]
+fn embree(robust: bool) -> Result<Engine<'static>, CliError> {
+    use crate::embree::{Device, EmbreeScene};
+    use std::sync::Arc;
+    let device = Arc::new(
+        Device::new(crate::engine::DEFAULT_EMBREE_CONFIG).map_err(|e| CliError::BadInput(e.into()))?,
+    );
+    Ok(Engine {
+        name: format!("embree {}", if robust { "robust" } else { "default" }),
+        trace: Box::new(move |triangles: &[[Vec3; 3]], rays| {
+            let prims: Vec<Primitive> = triangles
+                .iter()
+                .map(|&[a, b, c]| Primitive::Triangle(Triangle::new(a, b, c)))
+                .collect();
+            let scene = if robust {
+                EmbreeScene::robust(device.clone(), &prims)
+            } else {
+                EmbreeScene::new(device.clone(), &prims)
+            }
+            .expect("Embree builds a scene of triangles");
+            trace_rays(&scene, rays, Kernel::Scalar)
+        }),
+    })
+}
+
+/// Run `robustness`.
+pub fn run(args: RobustnessArgs) -> CliResult {
+    #[cfg(feature = "embree")]
+    rayon::broadcast(|_| crate::embree::flush_denormals());
+    let shapes = if args.shape.is_empty() {
+        ClosedShape::ALL.to_vec()
+    } else {
+        args.shape.clone()
+    };
+    let mut engines = Vec::new();
+    for test in [TriangleTest::Watertight, TriangleTest::Barycentric] {
+        for kernel in [Kernel::Scalar, Kernel::Packet8, Kernel::Packet16] {
+            engines.push(raypack(test, kernel));
+        }
+    }
+    #[cfg(feature = "embree")]
+    {
+        engines.push(embree(false)?);
+        engines.push(embree(true)?);
+    }
+    let sizes = Sizes {
+        spawn_points: args.spawn_points,
+        random_rays: args.random_rays,
+    };
+    let rows = robustness::run(&shapes, &engines, sizes, args.seed);
+    let totals = robustness::totals(&rows);
+    let tests = [TriangleTest::Watertight, TriangleTest::Barycentric];
+    let queries = robustness::queries(&shapes, &tests, args.query_points, args.seed);
+    if args.json {
+        let json = serde_json::json!({
+            "environment": Environment::collect(),
+            "default_triangle_test": TriangleTest::default(),
+            "shapes": shapes,
+            "totals": totals,
+            "rows": rows,
+            "queries": queries,
+        });
+        outln!(
+            "{}",
+            serde_json::to_string_pretty(&json).map_err(anyhow::Error::from)?
+        )?;
+    } else {
+        let env = Environment::collect();
+        outln!("{} · kernels {}", env.cpu_model, env.isa)?;
+        print_table(if args.all_rows { &rows } else { &totals })?;
+        outln!("")?;
+        outln!(
+            "{:<14} {:<12} {:>8} {:>13} {:>8} {:>16}",
+            "queries",
+            "test",
+            "points",
+            "wrong inside",
+            "rays",
+            "wrong crossings"
+        )?;
+        for q in &queries {
+            outln!(
+                "{:<14} {:<12} {:>8} {:>13} {:>8} {:>16}",
+                q.shape.name(),
+                q.test.name(),
+                q.points,
+                q.wrong_inside,
+                q.rays,
+                q.wrong_crossings
+            )?;
+        }
+    }
+    // raypack's default test must neither leak nor hit itself.
+    let default = format!("raypack {} ", TriangleTest::default().name());
+    let failing: Vec<&Row> = totals
+        .iter()
+        .filter(|r| r.engine.starts_with(&default) && (r.leaks > 0 || r.self_hits > 0))
+        .collect();
+    let wrong_queries = queries
+        .iter()
+        .filter(|q| q.test == TriangleTest::default() && q.wrong_inside + q.wrong_crossings > 0)
+        .count();
+    if wrong_queries > 0 {
+        return Err(CliError::Failed(anyhow::anyhow!(
+            "the queries under raypack's default triangle test went wrong on {wrong_queries} meshes"
+        )));
+    }
+    if !failing.is_empty() {
+        return Err(CliError::Failed(anyhow::anyhow!(
+            "raypack's default triangle test leaked or hit itself: {}",
+            failing
+                .iter()
+                .map(|r| format!(
+                    "{} {} ({} leaks, {} self-hits)",
+                    r.category.name(),
+                    r.engine,
+                    r.leaks,
+                    r.self_hits
+                ))
+                .collect::<Vec<_>>()
+                .join("; ")
+        )));
+    }
+    Ok(())
+}
+
+/// The rows as a text table.
+fn print_table(rows: &[Row]) -> CliResult {
+    outln!(
+        "{:<15} {:<14} {:<9} {:<29} {:>8} {:>6} {:>6} {:>6} {:>7} {:>7} {:>9}",
+        "category",
+        "shape",
+        "placement",
+        "engine",
+        "rays",
+        "leaks",
+        "false",
+        "self",
+        "t p50",
+        "t p99",
+        "t max"
+    )?;
+    for r in rows {
+        let shape = if r.placement == "all" {
+            "all"
+        } else {
+            r.shape.name()
+        };
+        outln!(
+            "{:<15} {:<14} {:<9} {:<29} {:>8} {:>6} {:>6} {:>6} {:>7.1} {:>7.1} {:>9.1}",
+            r.category.name(),
+            shape,
+            r.placement,
+            r.engine,
+            r.rays,
+            r.leaks,
+            r.false_hits,
+            r.self_hits,
+            r.t_ulps.p50,
+            r.t_ulps.p99,
+            r.t_ulps.max
+        )?;
+    }
+    Ok(())
+}
