@@ -522,7 +522,8 @@ pub struct QueryRow {
 /// The all-hits and inside/outside queries on each shape at the origin under
 /// each triangle test, against answers known by construction: `n` points
 /// just inside and just outside of random points of its faces, its edges
-/// and its vertices ([`near_surface_points`]), each classified and the
+/// and its vertices (moved along the normal by 10⁻² or 10⁻³ of the
+/// feature's size), each classified and the
 /// start of a ray in a random direction whose crossings must have the
 /// point's parity; and the edges-and-vertices rays, whose crossings a convex
 /// mesh fixes exactly (one from inside, two from outside through it).
