@@ -9,8 +9,12 @@
 //! t up to rounding. Those hits are one crossing when the triangles face the
 //! same way along the ray (the ray passes from one side to the other), and
 //! two when they face opposite ways (it touches a ridge or a valley and goes
-//! back out): so two hits merge when their triangles share a vertex, their t
-//! agree within [`SAME_CROSSING`], and the ray meets both from the same side.
+//! back out). So consecutive hits met from the same side merge when their
+//! triangles share an edge, however far apart rounding put their t (two
+//! consistently wound triangles sharing an edge split space in two, so a
+//! line crossing both at distinct points alternates sides; a ray nearly along
+//! the surface gets t far apart from the two planes), or share a vertex and
+//! their t agree within [`SAME_CROSSING`].
 
 use glam::Vec3;
 
@@ -47,8 +51,8 @@ pub fn all_hits<A: Accel>(accel: &A, prims: &[Primitive], ray: &Ray) -> Vec<Hit>
     }
 }
 
-/// True when `a` and `b` are one crossing of `ray`: hits on triangles that
-/// share a vertex, at the same t within [`SAME_CROSSING`], met from the same side.
+/// True when `a` and `b` are one crossing of `ray`: hits met from the same
+/// side on triangles that share an edge, or a vertex with t within [`SAME_CROSSING`].
 fn same_crossing(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit) -> bool {
     let (Primitive::Triangle(ta), Primitive::Triangle(tb)) =
         (&prims[a.prim as usize], &prims[b.prim as usize])
@@ -56,10 +60,10 @@ fn same_crossing(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit) -> bool {
         return false;
     };
     let (va, vb) = (ta.vertices(), tb.vertices());
-    let share = va.iter().any(|p| vb.contains(p));
+    let shared = va.iter().filter(|p| vb.contains(p)).count();
     let close = (a.t - b.t).abs() <= SAME_CROSSING * a.t.abs().max(b.t.abs());
     let side = |n: Vec3| n.dot(ray.dir) > 0.0;
-    share && close && side(ta.normal()) == side(tb.normal())
+    side(ta.normal()) == side(tb.normal()) && (shared >= 2 || (shared == 1 && close))
 }
 
 /// Directions of the parity rays (unit length): far from every axis and diagonal, so that
