@@ -22,7 +22,6 @@ use glam::{Mat4, Vec3};
 use embree4_sys as sys;
 
 use crate::accel::Accel;
-use crate::accel::bvh::traverse_packet::is_coherent;
 use crate::accel::stats::Counter;
 use crate::embree::EmbreeError;
 use crate::embree::denormals::flush_denormals;
@@ -479,7 +478,7 @@ impl EmbreeScene {
 }
 
 /// The query flags for a packet: `RTC_RAY_QUERY_FLAG_COHERENT` where every
-/// lane points the way of the others ([`is_coherent`], the test raypack's own
+/// lane points the way of the others ([`RayPacket::is_coherent`], the test raypack's own
 /// packet traversal makes), as Embree's documentation asks of coherent rays
 /// (primary rays, shadow rays to one light), so that Embree uses its packet
 /// traversal for them; incoherent otherwise. Embree's coherent packets run
@@ -487,7 +486,7 @@ impl EmbreeScene {
 /// `docs/measurements.md`, "Constants").
 #[inline]
 fn packet_flags<F: SimdFloat>(rays: &RayPacket<F>) -> sys::RTCRayQueryFlags {
-    if is_coherent(rays) {
+    if rays.is_coherent() {
         sys::RTCRayQueryFlags::COHERENT
     } else {
         sys::RTCRayQueryFlags::INCOHERENT

@@ -54,7 +54,7 @@ struct Pending {
 /// Traverse the wide tree from its root with the lanes of `lanes` (which met
 /// the root's box) of the rays prepared in `slab`, setting out as `walk`
 /// says (lanes apart for rays that share no node below the root, see
-/// [`is_scattered`](super::traverse_packet::is_scattered)).
+/// [`is_scattered`](crate::packet::RayPacket::is_scattered)).
 /// This is the one place packets hand lanes to
 /// [`finish_lanes`], so the single-ray walk is compiled once
 /// into each packet query's entry point.

@@ -8,25 +8,22 @@
 //! - Children are visited near first by the packet's majority direction along the
 //!   node's split axis; a far child is pushed with its lanes' entry t, and lanes
 //!   whose hit has come closer than that are dropped when it is popped.
-//! - An incoherent packet ([`is_coherent`]) walks the wide tree instead, as a
+//! - An incoherent packet ([`RayPacket::is_coherent`]) walks the wide tree instead, as a
 //!   packet while enough lanes share a subtree and as single rays below
 //!   ([`traverse_hybrid`]), faster than tracing its lanes as single rays from
 //!   the root, which was faster than dragging sparse packets down the binary
 //!   tree. So does every any-hit packet, coherent or not (faster on meshes,
 //!   a little slower on sphere scenes).
-//!   Coherent nearest-hit packets never fall back (see [`is_coherent`]).
-//! - A packet of rays from all over the scene ([`is_scattered`]) shares no
+//!   Coherent nearest-hit packets never fall back (see [`RayPacket::is_coherent`]).
+//! - A packet of rays from all over the scene ([`RayPacket::is_scattered`]) shares no
 //!   node below the root: its lanes walk the wide tree as single rays,
 //!   interleaved so that their cache misses overlap
 //!   ([`traverse_interleaved`](crate::accel::bvh::traverse_single::traverse_interleaved)).
 //!
 //! One loop serves nearest-hit and any-hit queries ([`PacketQuery`]).
 
-use crate::accel::bvh::leaf::LeafRef;
-
-use glam::Vec3;
-
 use crate::accel::bvh::lanes::leaf_lane_by_lane;
+use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::node::{NodeId, ROOT};
 use crate::accel::bvh::query::{LaneQueries, PacketQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
@@ -35,14 +32,9 @@ use crate::accel::bvh::traverse_hybrid::{LaneWalk, traverse_hybrid};
 use crate::accel::bvh::traverse_single::Nearest;
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
-use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
-
-/// Cosine of the widest angle (about 8°) between a lane's direction and the
-/// packet's mean direction for which a packet counts as coherent.
-pub const COHERENT_COS: f32 = 0.99;
 
 /// Bit `k` set when most active lanes point down axis `k`: the packet then
 /// visits the upper child of a node split along `k` first.
@@ -59,29 +51,6 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
     bits
 }
 
-/// True when every active lane's direction lies within [`COHERENT_COS`] of the
-/// packet's mean direction, as for the primary rays of a pixel block or shadow
-/// rays from nearby points to one light. Such lanes stay together down to the
-/// leaves, where even one or two lanes finish a subtree as a packet faster than
-/// as single rays (measured on primary rays of the dragon against a fallback
-/// at 2 lanes), so coherent packets never fall back; incoherent ones are traced as single rays from the root.
-#[inline(always)]
-pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
-    let active = rays.active;
-    let mean = Vec3::new(
-        active_sum(active, rays.dir.x),
-        active_sum(active, rays.dir.y),
-        active_sum(active, rays.dir.z),
-    );
-    let d = &rays.dir;
-    let dot = d.x * F::splat(mean.x) + d.y * F::splat(mean.y) + d.z * F::splat(mean.z);
-    let length2 = d.x * d.x + d.y * d.y + d.z * d.z;
-    // dot ≥ cos·|d|·|mean|, squared (both sides non-negative).
-    let bound = F::splat(COHERENT_COS * COHERENT_COS * mean.length_squared());
-    let inside = dot.ge(F::splat(0.0)) & (dot * dot).ge(bound * length2);
-    (inside & rays.active).bitmask() == rays.active.bitmask()
-}
-
 /// Scattered packets in trees smaller than this (wide nodes and leaves,
 /// [`Bvh::walked_bytes`]) walk their lanes one after the other rather than
 /// interleaved: interleaved walks hide cache misses, and a tree this small
@@ -89,58 +58,6 @@ pub fn is_coherent<F: SimdFloat>(rays: &RayPacket<F>) -> bool {
 /// set-up would count: interleaved walks lose to single rays on small scenes
 /// and win on large ones (figures: `docs/measurements.md`, "Constants").
 pub const INTERLEAVE_MIN_BYTES: usize = 4 << 20;
-
-/// Fraction of the scene box's diagonal that the origins of a packet's lanes
-/// must span for the packet to count as scattered ([`is_scattered`]).
-pub const SCATTERED_SPREAD: f32 = 0.25;
-
-/// True when the active lanes' origins span more than [`SCATTERED_SPREAD`] of
-/// the diagonal of `scene` (the tree's box), as random rays from all over a
-/// scene do. Such lanes share no node below the root, so sharing node tests
-/// (the hybrid traversal) only costs, and walked as single rays interleaved
-/// they beat single rays; secondary rays from a pixel block's hit points,
-/// which do share their first nodes, lose that way.
-#[inline(always)]
-pub fn is_scattered<F: SimdFloat>(rays: &RayPacket<F>, scene: &Aabb) -> bool {
-    let active = rays.active;
-    let span = Vec3::new(
-        active_extent(active, rays.origin.x),
-        active_extent(active, rays.origin.y),
-        active_extent(active, rays.origin.z),
-    );
-    let diagonal = scene.max - scene.min;
-    span.length_squared() > SCATTERED_SPREAD * SCATTERED_SPREAD * diagonal.length_squared()
-}
-
-/// The largest minus the smallest of the lanes of `x` where the mask `active`
-/// is set (−∞ with none set; NaN if one of them is NaN).
-#[inline(always)]
-fn active_extent<F: SimdFloat>(active: F, x: F) -> f32 {
-    let (lanes, bits) = (x.to_array(), active.bitmask());
-    let (mut low, mut high) = (f32::INFINITY, f32::NEG_INFINITY);
-    for (lane, &v) in lanes.as_ref().iter().enumerate() {
-        if bits >> lane & 1 == 1 {
-            if v.is_nan() {
-                return f32::NAN;
-            }
-            low = low.min(v);
-            high = high.max(v);
-        }
-    }
-    high - low
-}
-
-/// The sum of the lanes of `d` where the mask `active` is set, lane 0 first.
-#[inline(always)]
-fn active_sum<F: SimdFloat>(active: F, d: F) -> f32 {
-    let lanes = active.select(d, F::splat(0.0)).to_array();
-    // From −0, as `Iterator::sum` starts.
-    let mut sum = -0.0;
-    for &x in lanes.as_ref() {
-        sum += x;
-    }
-    sum
-}
 
 /// Traverse the whole tree with the lanes of `query.live()`.
 #[inline(always)]
@@ -160,13 +77,13 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     if mask.none() {
         return;
     }
-    if !Q::NEAREST_FIRST || !is_coherent(rays) {
+    if !Q::NEAREST_FIRST || !rays.is_coherent() {
         // Incoherent rays part ways too soon for the binary tree, and any-hit
         // rays, which need no order, meet fewer nodes in the wide one. Rays
         // from all over the scene share nothing below the root: they walk it
         // as single rays, interleaved where the tree is large. Else the
         // hybrid traversal shares what the lanes do share.
-        let walk = if !is_scattered(rays, &bvh.bounds()) {
+        let walk = if !rays.is_scattered(&bvh.bounds()) {
             LaneWalk::Shared
         } else if bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES {
             LaneWalk::ApartInterleaved
@@ -336,45 +253,8 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::camera::Camera;
-    use crate::packet::RayPacket8;
-    use crate::ray::Ray;
+    use crate::bounds::Aabb;
     use crate::rng::Rng;
-
-    /// Random rays from all over a scene are scattered; rays from points
-    /// close together are not, whatever their directions; inactive lanes and
-    /// NaN origins do not make a packet scattered.
-    #[test]
-    fn random_rays_are_scattered_and_rays_from_nearby_points_are_not() {
-        let scene = Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0));
-        let mut rng = Rng::new(8);
-        for _ in 0..100 {
-            let random: Vec<Ray> = (0..8)
-                .map(|_| Ray::unbounded(rng.point_in(scene.min, scene.max), rng.unit_vector()))
-                .collect();
-            assert!(is_scattered(&RayPacket8::from_rays(&random), &scene));
-            let centre = rng.point_in(scene.min, scene.max);
-            let nearby: Vec<Ray> = (0..8)
-                .map(|_| {
-                    Ray::unbounded(
-                        centre + rng.point_in(Vec3::splat(-0.1), Vec3::splat(0.1)),
-                        rng.unit_vector(),
-                    )
-                })
-                .collect();
-            assert!(!is_scattered(&RayPacket8::from_rays(&nearby), &scene));
-        }
-        // Two lanes at opposite corners: scattered only while both are active.
-        let mut rays = [Ray::unbounded(scene.min, Vec3::Z); 8];
-        rays[1].origin = scene.max;
-        assert!(is_scattered(&RayPacket8::from_rays(&rays), &scene));
-        assert!(!is_scattered(
-            &RayPacket8::from_rays_masked(&rays, 0b1111_1101),
-            &scene
-        ));
-        rays[2].origin.x = f32::NAN;
-        assert!(!is_scattered(&RayPacket8::from_rays(&rays), &scene));
-    }
 
     /// Packets of random rays from all over a tree, walked as single rays
     /// (interleaved in a large tree, one after the other in a small one; 8 and
@@ -457,35 +337,5 @@ mod tests {
                 assert_eq!(packet_stats.simd_steps, 0, "{packet_stats:?}");
             }
         }
-    }
-
-    #[test]
-    fn pixel_blocks_are_coherent_and_random_rays_are_not() {
-        let camera = Camera::new(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 60.0, 60.0, 64, 64).unwrap();
-        let pixels: Vec<(u32, u32)> = (0..8).map(|k| (10 + k % 4, 20 + k / 4)).collect();
-        let block = camera.pixel_packet::<wide::f32x8>(&pixels);
-        assert!(is_coherent(&block));
-
-        let mut rng = Rng::new(3);
-        let random: Vec<Ray> = (0..8)
-            .map(|_| Ray::unbounded(Vec3::ZERO, rng.unit_vector()))
-            .collect();
-        assert!(!is_coherent(&RayPacket8::from_rays(&random)));
-
-        // Inactive lanes do not count; a NaN direction in an active lane breaks coherence.
-        let mut mixed = random.clone();
-        mixed[..4].copy_from_slice(&[Ray::unbounded(Vec3::ZERO, Vec3::Z); 4]);
-        assert!(is_coherent(&RayPacket8::from_rays_masked(&mixed, 0b1111)));
-        mixed[0].dir = Vec3::new(f32::NAN, 0.0, 1.0);
-        assert!(!is_coherent(&RayPacket8::from_rays_masked(&mixed, 0b1111)));
-        // Directions 10° apart are not coherent, 5° apart are.
-        let tilted = |deg: f32| {
-            let a = deg.to_radians();
-            let mut rays = [Ray::unbounded(Vec3::ZERO, Vec3::Z); 8];
-            rays[7].dir = Vec3::new(a.sin(), 0.0, a.cos());
-            RayPacket8::from_rays(&rays)
-        };
-        assert!(is_coherent(&tilted(5.0)));
-        assert!(!is_coherent(&tilted(10.0)));
     }
 }

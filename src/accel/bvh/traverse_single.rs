@@ -8,7 +8,7 @@
 //! Several rays can walk at once, one visit of each in turn
 //! ([`traverse_interleaved`]): a ray's next visit waits on the node it goes
 //! to, and the other rays' visits fill that wait. Packets of rays from all
-//! over a scene are traced so (see `traverse_packet::is_scattered`).
+//! over a scene are traced so (see `RayPacket::is_scattered`).
 
 use std::mem::MaybeUninit;
 
