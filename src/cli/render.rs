@@ -15,7 +15,7 @@ use crate::picture::annotate::annotate_render;
 use crate::picture::heat_map::{HeatMapKind, NoPixelCosts};
 use crate::picture::output::png_bytes;
 use crate::picture::progress::Progress;
-use crate::picture::report::{RenderReport, RunInfo};
+use crate::picture::render_report::{RenderReport, RunInfo};
 use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, Counting, KernelKind, Mode, Render, RenderSettings, Sampling, render_counted};
 use crate::scene::{Light, Scene};
@@ -81,7 +81,7 @@ pub struct Args {
 
 /// Render with whichever acceleration structure was chosen, counting its
 /// traversal as `counting` says where the structure can be counted.
-struct Job<'a> {
+struct RenderRequest<'a> {
     scene: &'a Scene,
     camera: &'a Camera,
     settings: &'a RenderSettings,
@@ -89,7 +89,7 @@ struct Job<'a> {
     pool: &'a rayon::ThreadPool,
 }
 
-impl Job<'_> {
+impl RenderRequest<'_> {
     /// Run `trace` with a progress bar ticked by its tiles.
     fn with_progress(&self, trace: impl FnOnce(&(dyn Fn() + Sync)) -> Render) -> Render {
         let tiles = self.camera.width.div_ceil(self.settings.tile_size)
@@ -101,7 +101,7 @@ impl Job<'_> {
     }
 }
 
-impl WithAccel for Job<'_> {
+impl WithAccel for RenderRequest<'_> {
     type Output = (Render, f64);
 
     fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
@@ -163,7 +163,7 @@ pub fn run(args: Args) -> CliResult {
         max_depth: args.depth,
         sampling: Sampling::PixelCentres,
     };
-    let job = Job {
+    let request = RenderRequest {
         scene: &scene,
         camera: &camera,
         settings: &settings,
@@ -171,7 +171,7 @@ pub fn run(args: Args) -> CliResult {
         pool: &pool,
     };
     let (out, setup_seconds) =
-        with_engine(&scene, args.engine, args.accel, job).map_err(CliError::BadInput)?;
+        with_engine(&scene, args.engine, args.accel, request).map_err(CliError::BadInput)?;
     let accel = match args.engine {
         Engine::Raypack => args.accel.name(),
         Engine::Embree => "embree",

@@ -19,7 +19,7 @@ use image::{Rgb, RgbImage};
 
 use crate::picture::colormap::heat;
 use crate::picture::heat_map::{HeatMap, HeatMapKind, NoPixelCosts};
-use crate::picture::report::RenderReport;
+use crate::picture::render_report::RenderReport;
 use crate::picture::text;
 use crate::render::Render;
 

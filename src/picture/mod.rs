@@ -8,5 +8,5 @@ pub mod colormap;
 pub mod heat_map;
 pub mod output;
 pub mod progress;
-pub mod report;
+pub mod render_report;
 pub mod text;

@@ -101,7 +101,7 @@ pub fn render_counted<A: Accel>(
     on_tile: &(dyn Fn() + Sync),
 ) -> Render {
     let counting = if A::COUNTS_WORK { counting } else { Counting::Off };
-    let job = Job {
+    let inputs = RenderInputs {
         scene,
         accel,
         camera,
@@ -110,9 +110,9 @@ pub fn render_counted<A: Accel>(
         on_tile,
     };
     match counting {
-        Counting::Off => job.counted::<NoStats>(),
-        Counting::Totals => job.counted::<TraversalStats>(),
-        Counting::PerPixel => job.counted::<LaneCosts>(),
+        Counting::Off => inputs.counted::<NoStats>(),
+        Counting::Totals => inputs.counted::<TraversalStats>(),
+        Counting::PerPixel => inputs.counted::<LaneCosts>(),
     }
 }
 
@@ -120,7 +120,7 @@ pub fn render_counted<A: Accel>(
 /// for the chosen kernel and counter.
 /// (`on_tile` is a trait object so that every caller shares one instantiation
 /// per structure: the trace loop is instantiated for every kernel and counter.)
-struct Job<'a, A> {
+struct RenderInputs<'a, A> {
     scene: &'a Scene,
     accel: &'a A,
     camera: &'a Camera,
@@ -129,7 +129,7 @@ struct Job<'a, A> {
     on_tile: &'a (dyn Fn() + Sync),
 }
 
-impl<A: Accel> Job<'_, A> {
+impl<A: Accel> RenderInputs<'_, A> {
     /// Render counting with `C`, through the kernel the settings name.
     fn counted<C: TileCounter>(self) -> Render {
         match self.settings.kernel {

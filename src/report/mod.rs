@@ -1,6 +1,6 @@
 //! `raypack report`: one self-contained HTML page from the JSON results of
-//! `raypack bench … --json` (not to be confused with `picture::report`, a
-//! render's JSON sidecar). Charts are drawn with plotters as SVG and inlined
+//! `raypack bench … --json` (a render's own JSON sidecar is
+//! [`crate::picture::render_report`]). Charts are drawn with plotters as SVG and inlined
 //! as data URIs, so the page loads nothing from anywhere.
 //!
 //! [`page`] lays the page out; [`engines`] tables raypack against Embree; [`chart`] draws a figure group's medians as bars

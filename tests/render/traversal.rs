@@ -356,7 +356,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
     let accel = Bvh::new(&scene.primitives);
     let s = settings(Mode::Cast, KernelKind::Packet8, Block::B4x4);
     let plain = render(&scene, &accel, &camera, &s, &pool(), &|| {});
-    let info = raypack::picture::report::RunInfo {
+    let info = raypack::picture::render_report::RunInfo {
         engine: raypack::render::engine::Engine::Raypack,
         kernel: s.kernel,
         block: s.block,
@@ -369,7 +369,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
         setup_seconds: 0.0,
         headlight: false,
     };
-    let report = raypack::picture::report::RenderReport::new(&scene, &plain, &info);
+    let report = raypack::picture::render_report::RenderReport::new(&scene, &plain, &info);
     assert!(
         report
             .caption()

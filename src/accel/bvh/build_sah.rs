@@ -243,11 +243,11 @@ impl PrimRef {
 /// The tree while it is being built. Only the nodes large enough to build
 /// their halves in parallel ([`PARALLEL_MIN`]) are boxed; the subtrees below
 /// them are built by one thread straight into node pairs, depth first, as the
-/// final array holds them ([`Temp::Flat`]), and copied there in one piece.
+/// final array holds them ([`Subtree::Flat`]), and copied there in one piece.
 /// (With every node boxed, a dragon build allocated, flattened and dropped 10⁵
 /// small blocks scattered over the heap; building in pieces made it about 4%
 /// faster on one thread.)
-enum Temp {
+enum Subtree {
     /// A subtree built in one piece: its root, and the pairs of its inner
     /// nodes, numbered from 0 within `pairs`.
     Flat { root: Node, pairs: Vec<NodePair> },
@@ -255,32 +255,32 @@ enum Temp {
     Inner {
         bounds: Aabb,
         axis: u32,
-        children: Box<[Temp; 2]>,
+        children: Box<[Subtree; 2]>,
         /// Inner nodes in this subtree, itself included: the node pairs it needs.
         inner_nodes: usize,
     },
 }
 
-impl Temp {
+impl Subtree {
     /// Inner nodes in this subtree.
     fn inner_nodes(&self) -> usize {
         match self {
-            Temp::Flat { pairs, .. } => pairs.len(),
-            Temp::Inner { inner_nodes, .. } => *inner_nodes,
+            Subtree::Flat { pairs, .. } => pairs.len(),
+            Subtree::Inner { inner_nodes, .. } => *inner_nodes,
         }
     }
 }
 
 /// Write `t`'s subtree into `pairs`, returning the node for `t` itself.
-fn emit(t: &Temp, pairs: &mut Vec<NodePair>) -> Node {
+fn emit(t: &Subtree, pairs: &mut Vec<NodePair>) -> Node {
     match t {
-        Temp::Flat { root, pairs: flat } => {
+        Subtree::Flat { root, pairs: flat } => {
             // Pair i of the piece becomes pair `offset + i`.
             let offset = pairs.len() as u32;
             pairs.extend(flat.iter().map(|p| NodePair(p.0.map(|n| n.relocated(offset)))));
             root.relocated(offset)
         }
-        Temp::Inner {
+        Subtree::Inner {
             bounds,
             axis,
             children,
@@ -470,14 +470,14 @@ impl Context {
 
     /// Build the node of `prims`: the halves of a large node on two rayon
     /// tasks, a smaller one in one piece ([`Context::flat`]).
-    fn subtree(&self, prims: NodePrims<'_>, depth: usize, scratch: &mut BinScratch) -> Temp {
+    fn subtree(&self, prims: NodePrims<'_>, depth: usize, scratch: &mut BinScratch) -> Subtree {
         if prims.refs.len() < PARALLEL_MIN {
             let mut pairs = Vec::new();
             let root = self.flat(prims, depth, scratch, &mut pairs);
-            return Temp::Flat { root, pairs };
+            return Subtree::Flat { root, pairs };
         }
         let Some(division) = self.divide(prims.refs, &prims.bounds, &prims.centroids, depth, scratch) else {
-            return Temp::Flat {
+            return Subtree::Flat {
                 root: prims.leaf(),
                 pairs: Vec::new(),
             };
@@ -489,7 +489,7 @@ impl Context {
             || self.subtree(l, depth + 1, scratch),
             || self.subtree(r, depth + 1, &mut BinScratch::new()),
         );
-        Temp::Inner {
+        Subtree::Inner {
             bounds,
             axis: division.axis as u32,
             inner_nodes: 1 + a.inner_nodes() + b.inner_nodes(),

@@ -141,7 +141,7 @@ impl SceneRow {
 }
 
 /// What `bench scene` measures: per ray kind, every variant on every engine.
-struct Plan<'a> {
+struct MeasurementPlan<'a> {
     /// The primary rays, if measured.
     frame: Option<&'a PrimaryFrame>,
     variants: &'a [Variant],
@@ -158,7 +158,7 @@ type UnitsOf<'x> = dyn Fn(Rays<'x>, &[Variant], usize) -> Result<Vec<Unit<'x>>, 
 /// Each measurement: engine number, ray kind, timing; and each engine's build time.
 type Measurements = (Vec<(usize, RayKind, Timing)>, Vec<f64>);
 
-impl Plan<'_> {
+impl MeasurementPlan<'_> {
     /// Per ray kind, the variants of every engine of `engines` interleaved in one set of rounds.
     fn measure<'x>(&'x self, engines: &[&UnitsOf<'x>]) -> Result<Vec<(usize, RayKind, Timing)>, String> {
         let mut kinds: Vec<(RayKind, Rays<'x>, &[Variant])> = Vec::new();
@@ -185,7 +185,7 @@ impl Plan<'_> {
 
 /// The first engine's structure: measured alone, or handed on to build the second's.
 struct FirstEngine<'a> {
-    plan: &'a Plan<'a>,
+    plan: &'a MeasurementPlan<'a>,
     scene: &'a Scene,
     second: Option<Engine>,
     accel: AccelKind,
@@ -210,7 +210,7 @@ impl WithAccel for FirstEngine<'_> {
 
 /// The second engine's structure, measured interleaved with the first's.
 struct SecondEngine<'a, A> {
-    plan: &'a Plan<'a>,
+    plan: &'a MeasurementPlan<'a>,
     first: &'a A,
     first_setup: f64,
 }
@@ -280,7 +280,7 @@ pub fn run(args: SceneArgs) -> CliResult {
     }
     let name = args.scene.file_name().unwrap_or(args.scene.as_os_str());
     let name = name.to_string_lossy().into_owned();
-    let plan = Plan {
+    let plan = MeasurementPlan {
         frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
         variants: &variants,
         sets: &sets,
