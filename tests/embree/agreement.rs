@@ -111,8 +111,9 @@ fn fast_mode_embree_meets_the_same_bars() {
 fn scene_files_agree_with_robust_embree() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .map(|entries| entries.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_default();
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .collect();
     files.retain(|p| {
         let name = p.to_string_lossy().to_lowercase();
         [".nff", ".obj", ".ply", ".ply.gz", ".toml"]
@@ -120,6 +121,7 @@ fn scene_files_agree_with_robust_embree() {
             .any(|ext| name.ends_with(ext))
     });
     files.sort();
+    assert!(!files.is_empty(), "no scene files in {}", dir.display());
     let device = device();
     for path in &files {
         let scene = raypack::scene::load(path).unwrap_or_else(|e| panic!("{e}"));

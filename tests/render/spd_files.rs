@@ -25,11 +25,13 @@ const SMALL_SPD_SCENES: [&str; 7] = [
     "spd_teapot_small.nff",
 ];
 
-fn scene_path(name: &str) -> Option<PathBuf> {
+/// The bundled scene `name`, which must be there.
+fn scene_path(name: &str) -> PathBuf {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .join(name);
-    p.is_file().then_some(p)
+    assert!(p.is_file(), "{} is bundled in scenes/", p.display());
+    p
 }
 
 fn counts(path: &std::path::Path, kernel: KernelKind) -> RayCounts {
@@ -45,7 +47,7 @@ fn counts_with(scene: &raypack::scene::Scene, accel: &impl Accel, kernel: Kernel
 #[test]
 fn small_spd_scenes_count_the_same_with_the_bvh_and_brute_force() {
     for name in SMALL_SPD_SCENES {
-        let path = scene_path(name).expect("the SPD scenes are in scenes/");
+        let path = scene_path(name);
         let scene = raypack::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let bvh = Bvh::new(&scene.primitives);
         for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
@@ -59,9 +61,7 @@ fn small_spd_scenes_count_the_same_with_the_bvh_and_brute_force() {
 #[test]
 fn small_spd_scenes_count_the_same_with_both_kernels() {
     for name in SMALL_SPD_SCENES {
-        let Some(path) = scene_path(name) else {
-            continue;
-        };
+        let path = scene_path(name);
         let scalar = counts(&path, KernelKind::Scalar);
         assert_eq!(scalar, counts(&path, KernelKind::Packet8), "{name}");
         assert_eq!(scalar, counts(&path, KernelKind::Packet16), "{name}");
