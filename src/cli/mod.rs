@@ -27,7 +27,7 @@ pub use error::{CliError, CliResult};
 #[command(name = "raypack", version, about)]
 pub struct Cli {
     /// Instruction set of the BVH's kernels: auto (the best this CPU has),
-    /// portable, sse4.2, avx2 or avx512
+    /// portable, avx2 or avx512
     #[arg(long, global = true, default_value = "auto", value_parser = clap::value_parser!(Isa))]
     pub isa: Isa,
     /// Ray/triangle test of every scene loaded: watertight (Woop, Benthin and

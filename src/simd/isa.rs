@@ -24,10 +24,10 @@ use crate::simd::{Simd8, SimdFloat};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Isa {
     /// The `wide` crate's types, compiled for whatever the build targets
-    /// (SSE2 on a baseline x86-64 build, NEON on aarch64).
+    /// (SSE2 on a baseline x86-64 build, NEON on aarch64): x86 CPUs without
+    /// AVX2 run it (see `docs/measurements.md`, "Instruction sets at run time",
+    /// for why SSE4.2 has no level of its own).
     Portable,
-    /// SSE4.2: 4-lane registers, two per 8-lane vector.
-    Sse42,
     /// AVX2 (with FMA, as Embree's level of the name): 8-lane registers.
     Avx2,
     /// AVX-512 (F, VL, BW, DQ, CD): 16-lane registers for 16-wide packets,
@@ -37,13 +37,12 @@ pub enum Isa {
 
 impl Isa {
     /// Every level, lowest first.
-    pub const ALL: [Isa; 4] = [Isa::Portable, Isa::Sse42, Isa::Avx2, Isa::Avx512];
+    pub const ALL: [Isa; 3] = [Isa::Portable, Isa::Avx2, Isa::Avx512];
 
     /// The name `--isa` takes and results print.
     pub fn name(self) -> &'static str {
         match self {
             Isa::Portable => "portable",
-            Isa::Sse42 => "sse4.2",
             Isa::Avx2 => "avx2",
             Isa::Avx512 => "avx512",
         }
@@ -54,10 +53,9 @@ impl Isa {
         match self {
             Isa::Portable => true,
             #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
-            Isa::Sse42 => is_x86_feature_detected!("sse4.2") && is_x86_feature_detected!("popcnt"),
-            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Avx2 => {
-                Isa::Sse42.is_available()
+                is_x86_feature_detected!("sse4.2")
+                    && is_x86_feature_detected!("popcnt")
                     && is_x86_feature_detected!("avx2")
                     && is_x86_feature_detected!("fma")
                     && is_x86_feature_detected!("bmi1")
@@ -132,7 +130,7 @@ impl fmt::Display for Isa {
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum IsaError {
     /// Not a level's name.
-    #[error("unknown instruction set `{0}` (expected auto, portable, sse4.2, avx2 or avx512)")]
+    #[error("unknown instruction set `{0}` (expected auto, portable, avx2 or avx512)")]
     Unknown(String),
     /// The CPU lacks it.
     #[error("this CPU cannot run {0} (it has: {list})", list = Isa::available().iter().map(|i| i.name()).collect::<Vec<_>>().join(", "))]
@@ -200,9 +198,6 @@ impl Isa {
         match self {
             // SAFETY: the caller guarantees the CPU has the level.
             #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
-            Isa::Sse42 => unsafe { entry::sse42(task) },
-            // SAFETY: as above.
-            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
             Isa::Avx2 => unsafe { entry::avx2(task) },
             // SAFETY: as above.
             #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
@@ -229,7 +224,7 @@ fn portable<T: LevelTask>(task: T) -> T::Output {
 mod entry {
     use super::{Level, LevelTask};
     use crate::simd::Isa;
-    use crate::simd::x86::{Avx8, Avx8x2, Avx16, Sse4, Sse8, Sse16};
+    use crate::simd::x86::{Avx8, Avx8x2, Avx16, Sse4};
 
     /// Declares a level's lane types and its entry point.
     macro_rules! x86_level {
@@ -252,15 +247,6 @@ mod entry {
         };
     }
 
-    x86_level!(
-        Sse42Lanes,
-        Sse42,
-        sse42,
-        "sse4.1,sse4.2,popcnt",
-        Sse4,
-        Sse8,
-        Sse16
-    );
     x86_level!(
         Avx2Lanes,
         Avx2,

@@ -1,6 +1,7 @@
-//! [`SimdFloat`] over x86 registers, with their u32 twins: [`Sse4`], [`Sse8`]
-//! and [`Sse16`] (one, two and four SSE4.2 registers), [`Avx8`] and [`Avx8x2`]
-//! (one and two AVX2 registers) and [`Avx16`] (one AVX-512 register).
+//! [`SimdFloat`] over x86 registers, with their u32 twins: [`Sse4`] and
+//! [`Sse8`] (one and two SSE4.2 registers: the AVX levels' 4-lane type and
+//! its 8-lane view), [`Avx8`] and [`Avx8x2`] (one and two AVX2 registers) and
+//! [`Avx16`] (one AVX-512 register).
 //!
 //! Every operation is an `#[inline(always)]` wrapper round one intrinsic (or a
 //! few), so code generic over [`SimdFloat`] becomes straight vector code once
@@ -494,7 +495,6 @@ macro_rules! pair_lanes {
 }
 
 pair_lanes!(Sse8, SseU8, Sse4, SseU4, 8, lanes8: Sse8);
-pair_lanes!(Sse16, SseU16, Sse8, SseU8, 16, lanes8: Sse8);
 
 // ---- AVX2: 8 lanes per register ----
 
