@@ -1,0 +1,229 @@
+//! The traversal table: one row per scene, engine and thread count, with the
+//! figures of each ray kind, made from the times of the measurement.
+
+use crate::accel::{Accel, Bvh, TraversalStats};
+use crate::bench::figure::{Better, Figure};
+use crate::bench::rays::{Query, RayKind, RaySet};
+use crate::bench::traversal::engines::{EngineVariant, Structure};
+use crate::bench::traversal::measured::{EngineOnScene, Timings};
+use crate::engine::{EmbreeIsa, Engine};
+use crate::statistics::Summary;
+
+/// One row of the traversal table: a scene, an engine and a thread count.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TraversalRow {
+    /// Scene name.
+    pub scene: String,
+    /// Primitives in the scene.
+    pub primitives: usize,
+    /// Engine whose structure was traversed.
+    pub engine: Engine,
+    /// Embree's ISA setting (None for raypack).
+    pub embree_isa: Option<EmbreeIsa>,
+    /// Threads of the rayon pool.
+    pub threads: usize,
+    /// Build time, ms, of three builds.
+    pub build_ms: Summary,
+    /// The tree's SAH cost (raypack only: Embree does not report its tree).
+    pub sah_cost: Option<f64>,
+    /// Primary rays: image size.
+    pub resolution: (u32, u32),
+    /// The figures of each ray kind, in the order measured.
+    pub kinds: Vec<KindRow>,
+    /// Timed rounds per variant.
+    pub rounds: usize,
+}
+
+impl TraversalRow {
+    /// The engine as measured (with Embree's ISA setting).
+    pub fn variant(&self) -> EngineVariant {
+        EngineVariant {
+            engine: self.engine,
+            embree_isa: self.embree_isa,
+        }
+    }
+
+    /// The row's figures: build time, each kind's single-ray and packet
+    /// throughput, their ratio, and the growth of time per ray from the first scene.
+    pub fn figures(&self) -> Vec<Figure> {
+        let labels = |extra: &[(&'static str, String)]| -> Vec<(&'static str, String)> {
+            let mut l = vec![
+                ("scene", self.scene.clone()),
+                ("primitives", self.primitives.to_string()),
+                ("engine", self.variant().name()),
+                ("threads", self.threads.to_string()),
+            ];
+            l.extend_from_slice(extra);
+            l
+        };
+        let mut figures = vec![Figure::new(
+            "build",
+            "ms",
+            Better::Lower,
+            &labels(&[]),
+            self.build_ms,
+        )];
+        for k in &self.kinds {
+            let kind = ("rays", k.kind.name().to_string());
+            for (v, (kernel, s)) in [("single", k.single_mrays), ("packet8", k.packet_mrays)]
+                .into_iter()
+                .enumerate()
+            {
+                let l = labels(&[kind.clone(), ("kernel", kernel.to_string())]);
+                figures.push(Figure::new("throughput", "Mrays/s", Better::Higher, &l, s));
+                let growth = k.growth_vs_first[v];
+                figures.push(Figure::new(
+                    "time per ray vs first scene",
+                    "x",
+                    Better::Neither,
+                    &l,
+                    growth,
+                ));
+                if let Some(vs) = k.vs_embree {
+                    figures.push(Figure::new("raypack/embree", "x", Better::Neither, &l, vs[v]));
+                }
+            }
+            figures.push(Figure::new(
+                "packet8/single",
+                "x",
+                Better::Neither,
+                &labels(&[kind]),
+                k.packet_vs_single,
+            ));
+        }
+        figures
+    }
+}
+
+/// The figures of one ray kind in a [`TraversalRow`].
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct KindRow {
+    /// The kind.
+    pub kind: RayKind,
+    /// Its query.
+    pub query: Query,
+    /// Rays traced.
+    pub rays: usize,
+    /// Rays that hit (nearest) or found something (any hit), single-ray traversal.
+    pub hits: u64,
+    /// Single-ray traversal, Mrays/s.
+    pub single_mrays: Summary,
+    /// 8-ray packets, Mrays/s.
+    pub packet_mrays: Summary,
+    /// `packet_mrays / single_mrays`, round by round.
+    pub packet_vs_single: Summary,
+    /// Counts of the single-ray pass (raypack only: Embree does not report them).
+    pub single_stats: Option<TraversalStats>,
+    /// Counts of the packet pass (raypack only).
+    pub packet_stats: Option<TraversalStats>,
+    /// Time per ray against the same engine and kind on the first scene
+    /// measured alongside, round by round (1 for itself): single rays, packets.
+    pub growth_vs_first: [Summary; 2],
+    /// raypack rows: Mrays/s over Embree's on the same rays, round by round,
+    /// when Embree was measured alongside: single rays, packets.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_embree: Option<[Summary; 2]>,
+}
+
+impl KindRow {
+    /// The faster of single rays and packets by median, Mrays/s, and which it was.
+    pub fn best(&self) -> (f64, &'static str) {
+        if self.packet_mrays.median > self.single_mrays.median {
+            (self.packet_mrays.median, "packet8")
+        } else {
+            (self.single_mrays.median, "single")
+        }
+    }
+}
+
+/// The table row of `measured`: its times as Mrays/s, the ratios, the growth of
+/// time per ray from `first_per_ray` (the engine's first scene, `timing`
+/// being its own figures at the row's thread count), the speed
+/// over Embree's on the same rays (`embree_per_ray`, when measured), and for
+/// raypack the SAH cost and the traversal counts of one more (untimed) pass of each variant.
+pub(super) fn row(
+    measured: &EngineOnScene<'_>,
+    timing: &Timings,
+    first_per_ray: &[[Vec<f64>; 2]],
+    embree_per_ray: Option<&[[Vec<f64>; 2]]>,
+    threads: usize,
+    rounds: usize,
+) -> anyhow::Result<TraversalRow> {
+    let setup = measured.setup;
+    let mrays = |per_ray: &[f64]| Summary::of(&per_ray.iter().map(|t| 1e-6 / t).collect::<Vec<_>>());
+    let kinds = setup
+        .sets
+        .iter()
+        .enumerate()
+        .map(|(k, set)| -> anyhow::Result<KindRow> {
+            let [single, packet] = &timing.per_ray[k];
+            // Per kind, the first scene's sets are the same kinds in the same order.
+            let first = first_per_ray.get(k).unwrap_or(&timing.per_ray[k]);
+            let stats = match &measured.structure {
+                Structure::Raypack(bvh) => {
+                    let [single, packet] = counted(bvh, set);
+                    (Some(single), Some(packet))
+                }
+                #[cfg(feature = "embree")]
+                Structure::Embree(_) => (None, None),
+            };
+            Ok(KindRow {
+                kind: set.kind,
+                query: set.kind.query(),
+                rays: set.rays.len(),
+                hits: measured.hits[k],
+                single_mrays: mrays(single)?,
+                packet_mrays: mrays(packet)?,
+                packet_vs_single: Summary::paired_ratio(single, packet)?,
+                single_stats: stats.0,
+                packet_stats: stats.1,
+                growth_vs_first: [
+                    Summary::paired_ratio(single, &first[0])?,
+                    Summary::paired_ratio(packet, &first[1])?,
+                ],
+                vs_embree: match embree_per_ray.and_then(|e| e.get(k)) {
+                    Some([e_single, e_packet]) => Some([
+                        Summary::paired_ratio(e_single, single)?,
+                        Summary::paired_ratio(e_packet, packet)?,
+                    ]),
+                    None => None,
+                },
+            })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    let sah_cost = match &measured.structure {
+        Structure::Raypack(bvh) => Some(bvh.info().sah_cost),
+        #[cfg(feature = "embree")]
+        Structure::Embree(_) => None,
+    };
+    Ok(TraversalRow {
+        scene: setup.name.clone(),
+        primitives: setup.prims.len(),
+        engine: measured.variant.engine,
+        embree_isa: measured.variant.embree_isa,
+        threads,
+        build_ms: Summary::of(&timing.build_ms)?,
+        sah_cost,
+        resolution: setup.resolution,
+        kinds,
+        rounds,
+    })
+}
+
+/// The traversal counts of `set` on `bvh`: single rays, packets.
+fn counted(bvh: &Bvh, set: &RaySet) -> [TraversalStats; 2] {
+    let mut stats = [TraversalStats::default(); 2];
+    for r in &set.rays {
+        match set.kind.query() {
+            Query::Nearest => _ = bvh.intersect_counted(r, &mut stats[0]),
+            Query::AnyHit => _ = bvh.occluded_counted(r, &mut stats[0]),
+        }
+    }
+    for p in &set.packets {
+        match set.kind.query() {
+            Query::Nearest => _ = bvh.intersect_packet_counted(p, &mut stats[1]),
+            Query::AnyHit => _ = bvh.occluded_packet_counted(p, &mut stats[1]),
+        }
+    }
+    stats
+}

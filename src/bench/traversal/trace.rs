@@ -1,0 +1,102 @@
+//! The timed loops: a ray set's single rays in batches, or its 8- or 16-ray
+//! packets, over any [`Accel`], tiles of [`TILE_RAYS`] spread over the
+//! current rayon pool. They count hits, so that the work cannot be skipped.
+
+use rayon::prelude::*;
+
+use crate::accel::Accel;
+use crate::accel::stats::NoStats;
+use crate::bench::rays::{Query, RaySet};
+use crate::packet::RayPacket;
+use crate::ray::{Hit, Ray};
+use crate::render::batch::BATCH;
+use crate::simd::SimdFloat;
+
+/// Rays per tile: 16×16 pixels, 32 packets of 4×2 or 16 of 4×4.
+pub const TILE_RAYS: usize = 256;
+
+/// Trace the rays of `set` one by one with its kind's query, tiles spread over
+/// the current rayon pool; returns how many hit. The rays go in batches of
+/// [`BATCH`], as the renderer's scalar kernel hands them over: a BVH enters its
+/// instruction set's code once per batch, not once per ray
+/// ([`Accel::intersect_each_counted`]); an outside engine still takes them one
+/// call per ray (`rtcIntersect1`).
+pub fn trace_single(accel: &impl Accel, set: &RaySet) -> u64 {
+    let query = set.kind.query();
+    set.rays
+        .par_chunks(TILE_RAYS)
+        .map(|tile| {
+            tile.chunks(BATCH)
+                .map(|rays| trace_batch(accel, rays, query))
+                .sum::<u64>()
+        })
+        .sum()
+}
+
+/// Trace one batch of up to [`BATCH`] single rays (at least one) with
+/// `query`, in one call of `accel`; returns how many hit.
+#[inline]
+pub fn trace_batch(accel: &impl Accel, rays: &[Ray], query: Query) -> u64 {
+    let all = u32::MAX >> (32 - rays.len());
+    match query {
+        Query::Nearest => {
+            // Every record is overwritten: the first ray's will do.
+            let mut hits = [Hit::none(&rays[0]); BATCH];
+            accel.intersect_each_counted(rays, all, &mut hits, &mut NoStats);
+            hits[..rays.len()].iter().filter(|h| h.is_hit()).count() as u64
+        }
+        Query::AnyHit => u64::from(accel.occluded_each_counted(rays, all, &mut NoStats).count_ones()),
+    }
+}
+
+/// Trace the 8-ray packets of `set` with its kind's query, tiles spread over
+/// the current rayon pool; returns how many rays hit.
+pub fn trace_packets(accel: &impl Accel, set: &RaySet) -> u64 {
+    trace_packed(accel, &set.packets, set.kind.query())
+}
+
+/// [`trace_packets`] with the 16-ray packets of `set`.
+pub fn trace_packets16(accel: &impl Accel, set: &RaySet) -> u64 {
+    trace_packed(accel, &set.packets16, set.kind.query())
+}
+
+/// Trace `packets` with `query`, tiles spread over the current rayon pool;
+/// returns how many rays hit.
+fn trace_packed<F: SimdFloat>(accel: &impl Accel, packets: &[RayPacket<F>], query: Query) -> u64 {
+    packets
+        .par_chunks(TILE_RAYS / F::LANES)
+        .map(|tile| {
+            tile.iter()
+                .map(|p| {
+                    let hit = match query {
+                        Query::Nearest => accel.intersect_packet(p).hit_mask(),
+                        Query::AnyHit => accel.occluded_packet(p),
+                    };
+                    u64::from(hit.bitmask().count_ones())
+                })
+                .sum::<u64>()
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::Bvh;
+    use crate::bench::rays::RayKind;
+    use crate::bench::traversal::TraversalSetup;
+
+    #[test]
+    fn single_rays_and_packets_agree_with_brute_force_on_every_kind() {
+        let s = TraversalSetup::generated("mesh", 500, (40, 20), 100, &RayKind::ALL).expect("known kind");
+        assert_eq!(s.set(RayKind::Primary).expect("primary").rays.len(), 800);
+        let bvh = Bvh::new(&s.prims);
+        let brute = crate::accel::BruteForce::new(&s.prims);
+        for set in &s.sets {
+            let hits = trace_single(&brute, set);
+            assert_eq!(trace_single(&bvh, set), hits, "{:?}", set.kind);
+            assert_eq!(trace_packets(&bvh, set), hits, "{:?}", set.kind);
+            assert_eq!(trace_packets(&brute, set), hits, "{:?}", set.kind);
+        }
+    }
+}
