@@ -7,7 +7,7 @@ use std::time::Instant;
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::engines::{Builder, EngineVariant, Structure, engine_variants, pool};
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
-use crate::bench::traversal::rows::{TraversalRow, row};
+use crate::bench::traversal::rows::{TraversalRow, rows};
 use crate::bench::traversal::setup::TraversalSetup;
 use crate::engine::{EmbreeIsa, Engine};
 
@@ -47,6 +47,36 @@ pub fn measure(
     rounds: usize,
     hooks: &TimingHooks,
 ) -> anyhow::Result<Vec<TraversalRow>> {
+    let thread_counts = distinct_thread_counts(threads)?;
+    let variants = engine_variants(engines, embree_isas)?;
+    let pools = thread_counts
+        .iter()
+        .map(|&t| pool(t, &variants))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    // Every engine on every scene, scene by scene.
+    let pairs: Vec<(&TraversalSetup, EngineVariant)> = setups
+        .iter()
+        .flat_map(|setup| variants.iter().map(move |&v| (setup, v)))
+        .collect();
+    // timings[t][c]: thread count t, scene and engine c.
+    let mut timings: Vec<Vec<Timings>> = thread_counts
+        .iter()
+        .map(|_| {
+            pairs
+                .iter()
+                .map(|(setup, _)| Timings::empty(setup.sets.len()))
+                .collect()
+        })
+        .collect();
+    let structures = build_rounds(&pairs, engines, embree_isas, &thread_counts, &pools, &mut timings)?;
+    let mut measured = engines_on_scenes(&pairs, structures)?;
+    trace_rounds(&mut measured, &pools, rounds, hooks, &mut timings);
+    rows(&measured, &timings, &thread_counts, rounds)
+}
+
+/// The thread counts of `threads`, each at least 1, once each in the order
+/// given; an error when there is none.
+fn distinct_thread_counts(threads: &[usize]) -> anyhow::Result<Vec<usize>> {
     let mut thread_counts: Vec<usize> = Vec::new();
     for t in threads.iter().map(|&t| t.max(1)) {
         if !thread_counts.contains(&t) {
@@ -54,52 +84,69 @@ pub fn measure(
         }
     }
     anyhow::ensure!(!thread_counts.is_empty(), "no thread count to measure");
-    let variants = engine_variants(engines, embree_isas)?;
-    let pools = thread_counts
-        .iter()
-        .map(|&t| pool(t, &variants))
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let keys: Vec<(&TraversalSetup, EngineVariant)> = setups
-        .iter()
-        .flat_map(|setup| variants.iter().map(move |&v| (setup, v)))
-        .collect();
-    let empty = |setup: &TraversalSetup| Timings {
-        build_ms: Vec::new(),
-        per_ray: vec![Default::default(); setup.sets.len()],
-    };
-    // timings[t][c]: thread count t, case c.
-    let mut timings: Vec<Vec<Timings>> = thread_counts
-        .iter()
-        .map(|_| keys.iter().map(|(setup, _)| empty(setup)).collect())
-        .collect();
+    Ok(thread_counts)
+}
 
-    // Build every structure on every thread count, round by round; the
-    // structures of the very last builds are kept for tracing, every other
-    // one is dropped before the next builder exists (it holds its device).
-    let mut structures: Vec<Option<Structure>> = keys.iter().map(|_| None).collect();
+/// Build the structure of every scene and engine of `pairs` on every thread
+/// count (`pools[t]`, build times into `timings[t]`), round by round, an
+/// untimed round then [`BUILD_ROUNDS`] timed ones, with a fresh [`Builder`]
+/// per thread count and round. Returns the structures of the very last
+/// builds, kept for tracing; every other one is dropped before the next
+/// builder exists (it holds its device).
+fn build_rounds(
+    pairs: &[(&TraversalSetup, EngineVariant)],
+    engines: &[Engine],
+    embree_isas: &[EmbreeIsa],
+    thread_counts: &[usize],
+    pools: &[rayon::ThreadPool],
+    timings: &mut [Vec<Timings>],
+) -> anyhow::Result<Vec<Option<Structure>>> {
+    let mut structures: Vec<Option<Structure>> = pairs.iter().map(|_| None).collect();
     for round in 0..=BUILD_ROUNDS {
         let order = round_order(round, thread_counts.len());
         for (step, &t) in order.iter().enumerate() {
-            let keep = round == BUILD_ROUNDS && step + 1 == order.len();
+            let last = round == BUILD_ROUNDS && step + 1 == order.len();
             let builder = Builder::new(engines, embree_isas, thread_counts[t])?;
-            pools[t].install(|| -> anyhow::Result<()> {
-                for c in round_order(round, keys.len()) {
-                    let (setup, variant) = keys[c];
-                    let start = Instant::now();
-                    let structure = builder.build(variant, &setup.prims)?;
-                    let ms = 1e3 * start.elapsed().as_secs_f64();
-                    if round > 0 {
-                        timings[t][c].build_ms.push(ms);
-                    }
-                    if keep {
-                        structures[c] = Some(structure);
-                    }
-                }
-                Ok(())
-            })?;
+            let kept = if last { Some(&mut structures[..]) } else { None };
+            pools[t].install(|| build_each(&builder, pairs, round, &mut timings[t], kept))?;
         }
     }
-    let mut cases = keys
+    Ok(structures)
+}
+
+/// Build the structure of every scene and engine of `pairs` once with
+/// `builder` on the current pool, in `round`'s order; past the untimed round
+/// 0 each build's time goes into `timings`. The structures go into `kept`
+/// when given, else are dropped.
+fn build_each(
+    builder: &Builder,
+    pairs: &[(&TraversalSetup, EngineVariant)],
+    round: usize,
+    timings: &mut [Timings],
+    mut kept: Option<&mut [Option<Structure>]>,
+) -> anyhow::Result<()> {
+    for c in round_order(round, pairs.len()) {
+        let (setup, variant) = pairs[c];
+        let start = Instant::now();
+        let structure = builder.build(variant, &setup.prims)?;
+        let ms = 1e3 * start.elapsed().as_secs_f64();
+        if round > 0 {
+            timings[c].build_ms.push(ms);
+        }
+        if let Some(kept) = kept.as_deref_mut() {
+            kept[c] = Some(structure);
+        }
+    }
+    Ok(())
+}
+
+/// Every scene and engine of `pairs` with its structure of `structures`, its
+/// hits not yet counted; an error for one not built.
+fn engines_on_scenes<'a>(
+    pairs: &[(&'a TraversalSetup, EngineVariant)],
+    structures: Vec<Option<Structure>>,
+) -> anyhow::Result<Vec<EngineOnScene<'a>>> {
+    pairs
         .iter()
         .zip(structures)
         .map(|(&(setup, variant), structure)| {
@@ -110,59 +157,56 @@ pub fn measure(
                 hits: vec![0; setup.sets.len()],
             })
         })
-        .collect::<anyhow::Result<Vec<_>>>()?;
+        .collect()
+}
 
-    // Trace; round 0 warms every pool and structure up (caches, page faults)
-    // and is not kept.
-    let steps: Vec<(usize, usize)> = (0..thread_counts.len())
-        .flat_map(|t| (0..cases.len()).map(move |c| (t, c)))
+/// Trace the rays of every scene and engine of `measured` on every thread
+/// count (`pools[t]`, times into `timings[t]`), round by round through the
+/// steps of thread count and scene and engine; round 0 warms every pool and
+/// structure up (caches, page faults), counts the hits and is not kept, then
+/// `rounds` rounds are timed.
+fn trace_rounds(
+    measured: &mut [EngineOnScene<'_>],
+    pools: &[rayon::ThreadPool],
+    rounds: usize,
+    hooks: &TimingHooks,
+    timings: &mut [Vec<Timings>],
+) {
+    let steps: Vec<(usize, usize)> = (0..pools.len())
+        .flat_map(|t| (0..measured.len()).map(move |c| (t, c)))
         .collect();
     for round in 0..=rounds {
         for step in round_order(round, steps.len()) {
             let (t, c) = steps[step];
-            let case = &mut cases[c];
-            let timing = &mut timings[t][c];
-            pools[t].install(|| {
-                for (k, set) in case.setup.sets.iter().enumerate() {
-                    for (v, variant) in ["single", "packet8"].into_iter().enumerate() {
-                        let start = Instant::now();
-                        let hits = black_box(case.structure.trace(set, v == 1));
-                        let rays = set.rays.len() as f64;
-                        let seconds = hooks.apply(variant, rays, start.elapsed().as_secs_f64());
-                        if round == 0 && v == 0 {
-                            case.hits[k] = hits;
-                        }
-                        if round > 0 {
-                            timing.per_ray[k][v].push(seconds / set.rays.len().max(1) as f64);
-                        }
-                    }
-                }
-            });
+            let (on_scene, timing) = (&mut measured[c], &mut timings[t][c]);
+            pools[t].install(|| trace_each_kind(on_scene, timing, round, hooks));
         }
     }
+}
 
-    let mut rows = Vec::with_capacity(timings.len() * cases.len());
-    for (t, of_threads) in timings.iter().enumerate() {
-        for (case, timing) in cases.iter().zip(of_threads) {
-            // The first case of the engine: the case itself at the latest.
-            let first = cases.iter().position(|c| c.variant == case.variant).unwrap_or(0);
-            // Embree on the same rays: its first ISA setting measured.
-            let embree = cases.iter().position(|c| {
-                case.variant.engine == Engine::Raypack
-                    && c.variant.engine == Engine::Embree
-                    && std::ptr::eq(c.setup, case.setup)
-            });
-            rows.push(row(
-                case,
-                timing,
-                &of_threads[first].per_ray,
-                embree.map(|e| &of_threads[e].per_ray[..]),
-                thread_counts[t],
-                rounds,
-            )?);
+/// Trace every ray set of `on_scene` once on the current pool, single rays
+/// then packets, times passing through `hooks`: round 0 counts the hits of
+/// single rays, later rounds keep each time per ray in `timing`.
+fn trace_each_kind(
+    on_scene: &mut EngineOnScene<'_>,
+    timing: &mut Timings,
+    round: usize,
+    hooks: &TimingHooks,
+) {
+    for (k, set) in on_scene.setup.sets.iter().enumerate() {
+        for (v, variant) in ["single", "packet8"].into_iter().enumerate() {
+            let start = Instant::now();
+            let hits = black_box(on_scene.structure.trace(set, v == 1));
+            let rays = set.rays.len() as f64;
+            let seconds = hooks.apply(variant, rays, start.elapsed().as_secs_f64());
+            if round == 0 && v == 0 {
+                on_scene.hits[k] = hits;
+            }
+            if round > 0 {
+                timing.per_ray[k][v].push(seconds / set.rays.len().max(1) as f64);
+            }
         }
     }
-    Ok(rows)
 }
 
 #[cfg(test)]

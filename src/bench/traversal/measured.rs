@@ -23,3 +23,13 @@ pub(super) struct Timings {
     /// Per ray set: each round's seconds per ray of single rays and packets.
     pub per_ray: Vec<[Vec<f64>; 2]>,
 }
+
+impl Timings {
+    /// No figures yet, for `kinds` ray sets.
+    pub fn empty(kinds: usize) -> Self {
+        Self {
+            build_ms: Vec::new(),
+            per_ray: vec![Default::default(); kinds],
+        }
+    }
+}

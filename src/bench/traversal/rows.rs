@@ -136,12 +136,47 @@ impl KindRow {
     }
 }
 
+/// The table: per thread count of `thread_counts`, whose figures are
+/// `timings[t]`, a row for each scene and engine of `measured`, in order.
+pub(super) fn rows(
+    measured: &[EngineOnScene<'_>],
+    timings: &[Vec<Timings>],
+    thread_counts: &[usize],
+    rounds: usize,
+) -> anyhow::Result<Vec<TraversalRow>> {
+    let mut rows = Vec::with_capacity(timings.len() * measured.len());
+    for (of_threads, &threads) in timings.iter().zip(thread_counts) {
+        for (on_scene, timing) in measured.iter().zip(of_threads) {
+            // The engine's first scene: this one at the latest.
+            let first = measured
+                .iter()
+                .position(|m| m.variant == on_scene.variant)
+                .unwrap_or(0);
+            // Embree on the same rays: its first ISA setting measured.
+            let embree = measured.iter().position(|m| {
+                on_scene.variant.engine == Engine::Raypack
+                    && m.variant.engine == Engine::Embree
+                    && std::ptr::eq(m.setup, on_scene.setup)
+            });
+            rows.push(row(
+                on_scene,
+                timing,
+                &of_threads[first].per_ray,
+                embree.map(|e| &of_threads[e].per_ray[..]),
+                threads,
+                rounds,
+            )?);
+        }
+    }
+    Ok(rows)
+}
+
 /// The table row of `measured`: its times as Mrays/s, the ratios, the growth of
 /// time per ray from `first_per_ray` (the engine's first scene, `timing`
 /// being its own figures at the row's thread count), the speed
 /// over Embree's on the same rays (`embree_per_ray`, when measured), and for
 /// raypack the SAH cost and the traversal counts of one more (untimed) pass of each variant.
-pub(super) fn row(
+fn row(
     measured: &EngineOnScene<'_>,
     timing: &Timings,
     first_per_ray: &[[Vec<f64>; 2]],
