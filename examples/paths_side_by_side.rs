@@ -20,7 +20,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
-use raypack::bench::rays::{RayKind, RaySet};
+use raypack::bench::rays::{KindRays, RayKind};
 use raypack::bench::traversal::{
     Builder, EngineVariant, Structure, TraversalSetup, scene_bounds, trace_batch, trace_packets,
     trace_packets16, trace_single,
@@ -60,7 +60,7 @@ struct Args {
 const PATHS: [&str; 3] = ["single", "packet8", "packet16"];
 
 /// Trace `set` through `structure` on path `path` (an index into [`PATHS`]).
-fn trace(structure: &Structure, set: &RaySet, path: usize) -> u64 {
+fn trace(structure: &Structure, set: &KindRays, path: usize) -> u64 {
     match (structure, path) {
         (Structure::Raypack(b), 0) => trace_single(b, set),
         (Structure::Raypack(b), 1) => trace_packets(b, set),
@@ -72,7 +72,7 @@ fn trace(structure: &Structure, set: &RaySet, path: usize) -> u64 {
 }
 
 /// Nanoseconds a ray of `set` takes cold and warm (see the module doc), over `rounds` passes.
-fn cold_warm(structure: &Structure, set: &RaySet, rounds: u32) -> (f64, f64) {
+fn cold_warm(structure: &Structure, set: &KindRays, rounds: u32) -> (f64, f64) {
     let query = set.kind.query();
     let (mut cold, mut warm) = (0.0, 0.0);
     for _ in 0..rounds {

@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use raypack::accel::{Accel, Bvh};
-use raypack::bench::rays::{RayKind, RaySet};
+use raypack::bench::rays::{KindRays, RayKind};
 use raypack::bench::traversal::{TraversalSetup, scene_bounds};
 use raypack::scene::generate::random::framing_camera;
 use raypack::simd::SimdFloat;
@@ -35,7 +35,7 @@ fn setups() -> Vec<TraversalSetup> {
 }
 
 /// Per ray of `set`: hit (nearest) or occluded (any hit), single rays.
-fn single_answers(accel: &impl Accel, set: &RaySet) -> Vec<bool> {
+fn single_answers(accel: &impl Accel, set: &KindRays) -> Vec<bool> {
     set.rays
         .iter()
         .map(|r| match set.kind {

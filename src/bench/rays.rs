@@ -87,7 +87,7 @@ type Block = ([Ray; BLOCK], u32);
 
 /// The rays of one kind, one by one and in 8- and 16-ray packets (the same rays).
 #[derive(Clone, Debug)]
-pub struct RaySet {
+pub struct KindRays {
     /// Their kind.
     pub kind: RayKind,
     /// The rays, packet by packet in lane order.
@@ -98,8 +98,8 @@ pub struct RaySet {
     pub packets16: Vec<RayPacket16>,
 }
 
-impl RaySet {
-    /// A set of `kind` from blocks of up to 16 rays.
+impl KindRays {
+    /// The rays of `kind` from blocks of up to 16 rays.
     fn from_blocks(kind: RayKind, blocks: impl IntoIterator<Item = Block>) -> Self {
         let mut set = Self {
             kind,
@@ -124,7 +124,7 @@ impl RaySet {
         set.on_huge_pages()
     }
 
-    /// A set of `kind` from `rays` in order, packed as they come.
+    /// The rays of `kind` from `rays` in order, packed as they come.
     fn from_rays(kind: RayKind, rays: Vec<Ray>) -> Self {
         fn packed<F: crate::simd::SimdFloat>(rays: &[Ray]) -> Vec<RayPacket<F>> {
             rays.chunks(F::LANES).map(RayPacket::from_rays).collect()
@@ -138,7 +138,7 @@ impl RaySet {
         .on_huge_pages()
     }
 
-    /// The set with room for at least [`ADVISED_BYTES`] in each array, so
+    /// These rays with room for at least [`ADVISED_BYTES`] in each array, so
     /// that a binary on [`HugePageAlloc`](crate::huge_pages::HugePageAlloc)
     /// holds every set on huge pages, however few its rays. The timing loops
     /// read a set over and over, and on the VMs this project measures on,
@@ -181,7 +181,7 @@ pub fn default_light(bounds: Aabb) -> Vec3 {
 
 impl RaySource<'_> {
     /// The rays of each of `kinds`, in that order.
-    pub fn make(&self, kinds: &[RayKind]) -> Vec<RaySet> {
+    pub fn make(&self, kinds: &[RayKind]) -> Vec<KindRays> {
         let blocks = self.primary_blocks();
         let needs_hits = kinds
             .iter()
@@ -195,8 +195,8 @@ impl RaySource<'_> {
         kinds
             .iter()
             .map(|&kind| match kind {
-                RayKind::Primary => RaySet::from_blocks(kind, blocks.iter().copied()),
-                RayKind::Random => RaySet::from_rays(
+                RayKind::Primary => KindRays::from_blocks(kind, blocks.iter().copied()),
+                RayKind::Random => KindRays::from_rays(
                     kind,
                     crate::compare::ray_sets::uniform_rays(self.bounds, self.random, self.seed),
                 ),
@@ -226,7 +226,7 @@ impl RaySource<'_> {
                         });
                         (lanes, mask)
                     });
-                    RaySet::from_blocks(kind, blocks)
+                    KindRays::from_blocks(kind, blocks)
                 }
             })
             .collect()

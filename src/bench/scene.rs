@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use crate::accel::Accel;
 use crate::accel::stats::NoStats;
-use crate::bench::rays::RaySet;
+use crate::bench::rays::KindRays;
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::{trace_packets, trace_packets16, trace_single};
 use crate::camera::Camera;
@@ -141,9 +141,9 @@ pub struct Unit<'a> {
 pub enum Rays<'a> {
     /// The primary rays of a frame, through the tile scheduler in the variant's blocks.
     Primary(&'a PrimaryFrame),
-    /// A ray set: one by one for the scalar kernel, in its 8- or 16-ray packets
+    /// The rays of one kind: one by one for the scalar kernel, in its 8- or 16-ray packets
     /// (4×4-pixel blocks; the variant's block must be [`Block::B4x4`]) for the packet kernels.
-    Set(&'a RaySet),
+    Set(&'a KindRays),
 }
 
 impl Rays<'_> {
@@ -212,7 +212,7 @@ pub fn measure<A: Accel>(
 /// (see [`Rays::Set`]).
 pub fn measure_set<A: Accel>(
     accel: &A,
-    set: &RaySet,
+    set: &KindRays,
     variants: &[Variant],
     runs: usize,
     hooks: &TimingHooks,

@@ -106,7 +106,7 @@ mod with_embree {
     use crate::cli::stdout::outln;
     use crate::compare::diff_image::diff_image;
     use crate::compare::{
-        Agreement, AgreementOptions, Kernel, RaySet, classify_rays, primary_rays, random_rays, trace_rays,
+        Agreement, AgreementOptions, CheckRays, Kernel, classify_rays, primary_rays, random_rays, trace_rays,
     };
     use crate::embree::{EmbreeScene, flush_denormals};
     use crate::environment::Environment;
@@ -143,7 +143,7 @@ mod with_embree {
     /// The comparison on one ray set, for the JSON report.
     #[derive(serde::Serialize)]
     struct SetReport {
-        rays: RaySet,
+        rays: CheckRays,
         count: usize,
         hit_agreement: f64,
         primitive_agreement: f64,
@@ -182,10 +182,10 @@ mod with_embree {
             .map_err(|e| CliError::BadInput(anyhow!("{}: camera: {e}", scene.source)))?;
         let mut sets = Vec::new();
         if args.rays != RayChoice::Random {
-            sets.push((RaySet::Primary, primary_rays(&camera)));
+            sets.push((CheckRays::Primary, primary_rays(&camera)));
         }
         if args.rays != RayChoice::Primary {
-            sets.push((RaySet::Random, random_rays(scene.bounds(), args.n, args.seed)));
+            sets.push((CheckRays::Random, random_rays(scene.bounds(), args.n, args.seed)));
         }
         let options = AgreementOptions {
             keep: args.show,
@@ -200,7 +200,7 @@ mod with_embree {
             let hits_b = trace_rays(&embree, &rays, args.kernel);
             let classes = classify_rays(&scene.primitives, &rays, &hits_a, &hits_b, &options);
             let agreement = Agreement::from_classes(&rays, &hits_a, &hits_b, &classes, options.keep);
-            if set == RaySet::Primary && diff_file.is_some() {
+            if set == CheckRays::Primary && diff_file.is_some() {
                 let caption = vec![
                     format!("{} ({} primitives)", scene.source, scene.primitives.len()),
                     format!(
@@ -327,8 +327,8 @@ mod with_embree {
         for r in reports {
             let g = &r.agreement;
             let what = match r.rays {
-                RaySet::Primary => format!("primary rays, {}x{} pixel centres", size.0, size.1),
-                RaySet::Random => format!("random rays, seed {}", args.seed),
+                CheckRays::Primary => format!("primary rays, {}x{} pixel centres", size.0, size.1),
+                CheckRays::Random => format!("random rays, seed {}", args.seed),
             };
             outln!("\n{} {what}", r.count)?;
             outln!(

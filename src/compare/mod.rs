@@ -16,4 +16,4 @@ pub use agreement::{
     Agreement, AgreementOptions, Disagreement, DisagreementKind, RayClass, classify, classify_rays,
 };
 pub use batch::{Kernel, trace_rays};
-pub use ray_sets::{RaySet, primary_rays, primary_rays_in_blocks, random_rays};
+pub use ray_sets::{CheckRays, primary_rays, primary_rays_in_blocks, random_rays};

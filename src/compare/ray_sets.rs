@@ -16,10 +16,10 @@ use crate::camera::Camera;
 use crate::ray::Ray;
 use crate::rng::Rng;
 
-/// Which rays to trace.
+/// Which rays `raypack check` traces: the `rays` of its JSON report.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum RaySet {
+pub enum CheckRays {
     /// One ray per pixel centre.
     Primary,
     /// Seeded random rays in and around the scene.

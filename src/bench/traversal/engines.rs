@@ -3,7 +3,7 @@
 //! their rays are traced on.
 
 use crate::accel::Bvh;
-use crate::bench::rays::RaySet;
+use crate::bench::rays::KindRays;
 use crate::bench::traversal::trace::{trace_packets, trace_single};
 use crate::engine::{EmbreeIsa, Engine};
 use crate::geometry::Primitive;
@@ -39,7 +39,7 @@ pub enum Structure {
 
 impl Structure {
     /// Trace `set`'s rays one by one ([`trace_single`]) or in packets ([`trace_packets`]).
-    pub(super) fn trace(&self, set: &RaySet, packets: bool) -> u64 {
+    pub(super) fn trace(&self, set: &KindRays, packets: bool) -> u64 {
         match (self, packets) {
             (Self::Raypack(bvh), false) => trace_single(bvh, set),
             (Self::Raypack(bvh), true) => trace_packets(bvh, set),

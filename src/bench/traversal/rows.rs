@@ -3,7 +3,7 @@
 
 use crate::accel::{Accel, Bvh, TraversalStats};
 use crate::bench::figure::{Better, Figure};
-use crate::bench::rays::{Query, RayKind, RaySet};
+use crate::bench::rays::{KindRays, Query, RayKind};
 use crate::bench::traversal::engines::{EngineVariant, Structure};
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
 use crate::engine::{EmbreeIsa, Engine};
@@ -246,7 +246,7 @@ fn row(
 }
 
 /// The traversal counts of `set` on `bvh`: single rays, packets.
-fn counted(bvh: &Bvh, set: &RaySet) -> [TraversalStats; 2] {
+fn counted(bvh: &Bvh, set: &KindRays) -> [TraversalStats; 2] {
     let mut stats = [TraversalStats::default(); 2];
     for r in &set.rays {
         match set.kind.query() {

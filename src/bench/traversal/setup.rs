@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
+use crate::bench::rays::{KindRays, RayKind, RaySource, default_light};
 use crate::bounds::Aabb;
 use crate::camera::Camera;
 use crate::geometry::Primitive;
@@ -15,7 +15,7 @@ pub struct TraversalSetup {
     /// The primitives.
     pub prims: Vec<Primitive>,
     /// The rays of each kind measured, in the order asked.
-    pub sets: Vec<RaySet>,
+    pub sets: Vec<KindRays>,
     /// Image size of the primary rays.
     pub resolution: (u32, u32),
 }
@@ -76,7 +76,7 @@ impl TraversalSetup {
     }
 
     /// The rays of `kind`, if measured.
-    pub fn set(&self, kind: RayKind) -> Option<&RaySet> {
+    pub fn set(&self, kind: RayKind) -> Option<&KindRays> {
         self.sets.iter().find(|s| s.kind == kind)
     }
 }

@@ -1,12 +1,12 @@
-//! The timed loops: a ray set's single rays in batches, or its 8- or 16-ray
-//! packets, over any [`Accel`], tiles of [`TILE_RAYS`] spread over the
+//! The timed loops: the single rays of one kind ([`KindRays`]) in batches, or its
+//! 8- or 16-ray packets, over any [`Accel`], tiles of [`TILE_RAYS`] spread over the
 //! current rayon pool. They count hits, so that the work cannot be skipped.
 
 use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::accel::stats::NoStats;
-use crate::bench::rays::{Query, RaySet};
+use crate::bench::rays::{KindRays, Query};
 use crate::packet::RayPacket;
 use crate::ray::{Hit, Ray};
 use crate::render::batch::BATCH;
@@ -21,7 +21,7 @@ pub const TILE_RAYS: usize = 256;
 /// instruction set's code once per batch, not once per ray
 /// ([`Accel::intersect_each_counted`]); an outside engine still takes them one
 /// call per ray (`rtcIntersect1`).
-pub fn trace_single(accel: &impl Accel, set: &RaySet) -> u64 {
+pub fn trace_single(accel: &impl Accel, set: &KindRays) -> u64 {
     let query = set.kind.query();
     set.rays
         .par_chunks(TILE_RAYS)
@@ -51,12 +51,12 @@ pub fn trace_batch(accel: &impl Accel, rays: &[Ray], query: Query) -> u64 {
 
 /// Trace the 8-ray packets of `set` with its kind's query, tiles spread over
 /// the current rayon pool; returns how many rays hit.
-pub fn trace_packets(accel: &impl Accel, set: &RaySet) -> u64 {
+pub fn trace_packets(accel: &impl Accel, set: &KindRays) -> u64 {
     trace_packed(accel, &set.packets, set.kind.query())
 }
 
 /// [`trace_packets`] with the 16-ray packets of `set`.
-pub fn trace_packets16(accel: &impl Accel, set: &RaySet) -> u64 {
+pub fn trace_packets16(accel: &impl Accel, set: &KindRays) -> u64 {
     trace_packed(accel, &set.packets16, set.kind.query())
 }
 

@@ -6,7 +6,7 @@ use std::path::Path;
 use clap::Args;
 
 use crate::bench::figure::{Better, Figure};
-use crate::bench::rays::{RayKind, RaySet, RaySource, default_light};
+use crate::bench::rays::{KindRays, RayKind, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::scene_bounds;
@@ -146,7 +146,7 @@ struct MeasurementPlan<'a> {
     frame: Option<&'a PrimaryFrame>,
     variants: &'a [Variant],
     /// The other ray kinds, and their variants (4×4 blocks).
-    sets: &'a [RaySet],
+    sets: &'a [KindRays],
     set_variants: &'a [Variant],
     runs: usize,
     hooks: &'a TimingHooks,
