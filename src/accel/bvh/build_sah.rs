@@ -245,8 +245,8 @@ impl PrimRef {
 /// them are built by one thread straight into node pairs, depth first, as the
 /// final array holds them ([`Subtree::Flat`]), and copied there in one piece.
 /// (With every node boxed, a dragon build allocated, flattened and dropped 10⁵
-/// small blocks scattered over the heap; building in pieces made it about 4%
-/// faster on one thread.)
+/// small blocks scattered over the heap; building in pieces is faster on one
+/// thread: figures in the commit that made it.)
 enum Subtree {
     /// A subtree built in one piece: its root, and the pairs of its inner
     /// nodes, numbered from 0 within `pairs`.
