@@ -51,7 +51,7 @@ pub struct Device {
     config: String,
     version: u32,
     /// Whether the library writes `instPrimID` after the hit record, once
-    /// probed (`Device::writes_inst_prim_id`, in `scene.rs`).
+    /// probed (`Device::writes_inst_prim_id`, in `layout_probe.rs`).
     pub(crate) inst_prim_id: OnceLock<bool>,
 }
 

@@ -11,8 +11,13 @@
 //! - [`denormals`]: FTZ/DAZ, which Embree wants set on every tracing thread;
 //! - [`ray_hit`]: ray-hit records padded for the hit layout of Embree ≥ 4.3
 //!   (the crate's bindings are generated from the 4.2 headers);
+//! - `layout_probe`: which of those layouts the loaded library writes
+//!   ([`Device::writes_inst_prim_id`]);
 //! - [`translate`] and [`user_geometry`]: raypack primitives as Embree geometry;
-//! - [`scene`] holds [`EmbreeScene`].
+//! - `raw_scene`: an owned `RTCScene` and the geometries attached to it;
+//! - [`scene`] holds [`EmbreeScene`], raypack's primitives built into one;
+//! - `trace`: [`EmbreeScene`]'s answers to the [`Accel`](crate::accel::Accel)
+//!   queries (single rays, 4/8/16-wide packets, the coherent flag).
 //!
 //! The library is found at build time by `build.rs`, after
 //! `scripts/install-embree.sh` has installed it.
@@ -22,8 +27,11 @@ compile_error!("the `embree` feature supports x86_64 only (FTZ/DAZ are set throu
 
 pub mod denormals;
 pub mod device;
+mod layout_probe;
+mod raw_scene;
 pub mod ray_hit;
 pub mod scene;
+mod trace;
 pub mod translate;
 pub mod user_geometry;
 
