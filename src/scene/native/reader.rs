@@ -1,97 +1,32 @@
-//! The native scene format: TOML, for what NFF cannot say — the lecture's three
-//! plane forms, transforms on any object or included file, named materials, and
-//! a camera with separate horizontal and vertical fields of view.
-//!
-//! ```toml
-//! background = [0.05, 0.05, 0.08]     # optional, default black
-//!
-//! [camera]                            # optional
-//! eye = [0, 2, 8]
-//! center = [0, 1, 0]
-//! up = [0, 1, 0]                      # optional, default +y
-//! fovx = 60                           # degrees, image edge to edge
-//! fovy = 45
-//! width = 640
-//! height = 480
-//!
-//! [materials.red]                     # each field optional (NFF's default material)
-//! color = [0.8, 0.1, 0.1]
-//! kd = 0.7
-//! ks = 0.3
-//! shine = 40
-//! transmittance = 0
-//! ior = 1.5
-//!
-//! [[lights]]
-//! position = [4, 6, 4]
-//! color = [1, 1, 1]                   # optional, default white
-//!
-//! [[objects]]                         # one primitive each, numbered in file order
-//! type = "sphere"                     # sphere | plane | triangle | polygon | cone | include
-//! center = [0, 1, 0]
-//! radius = 1
-//! inside_only = false                 # optional: NFF's negative radius
-//! material = "red"                    # optional: a name under [materials]
-//! transform = { scale = [1, 0.5, 1], rotate = { axis = [0, 0, 1], degrees = 30 }, translate = [0, 1, 0] }
-//! ```
-//!
-//! Object fields by type (every object also takes `material` and `transform`):
-//!
-//! - `sphere`: `center`, `radius`, optional `inside_only`;
-//! - `plane`, one of three forms: `implicit = [A, B, C, D]` (`Ax + By + Cz + D = 0`),
-//!   `point` + `normal`, or `origin` + `i` + `j` (parametric `origin + u·i + v·j`);
-//! - `triangle`: `vertices = [[x, y, z] ×3]`, optional `normals` (×3, smooth shading);
-//! - `polygon`: `vertices` (≥ 3, planar, may be concave; the first three fix the normal);
-//! - `cone`: `base`, `base_radius`, `apex`, `apex_radius` (no end caps);
-//! - `include`: `path` of a scene file (relative to this file; any format
-//!   [`scene::load`](crate::scene::load) reads), optional `keep_lights`. Its
-//!   primitives take consecutive indices at this point of the file order and
-//!   keep their own materials unless `material` is given; its camera and
-//!   background are ignored, and so are its lights unless `keep_lights = true`.
-//!
-//! A `transform` is either `matrix` (4×4, row-major, affine) or any of `scale`
-//! (a number or `[sx, sy, sz]`), `rotate` (`{ axis, degrees }`) and `translate`,
-//! applied in that order (M = T·R·S). A transformed sphere, cone or plane becomes
-//! a [`Transformed`] primitive; triangles and polygons are baked (their vertices
-//! transformed), and so are the triangles of an included file.
-//!
-//! Errors name the file and the line of the offending value.
+//! The TOML document turned into a [`Scene`]: the header (background, camera,
+//! materials, lights), then each `[[objects]]` entry in file order, following
+//! includes (refusing cycles and chains deeper than [`MAX_INCLUDE_DEPTH`]).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 use serde::Deserialize;
-use serde::de::{Deserializer, Error as _};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
 
-use crate::geometry::{Cone, GeometryError, Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
+use crate::geometry::{Cone, Plane, Polygon, Primitive, Sphere, Triangle};
 use crate::scene::error::{SceneError, geometry_message};
 use crate::scene::model::{CameraSpec, Light, Material, Scene};
+use crate::scene::native::errors::{line_of, reword, utf8_text};
+use crate::scene::native::scene_files::SceneFiles;
+use crate::scene::native::schema::{
+    ConeToml, FileToml, IncludeToml, PlaneToml, PolygonToml, SphereToml, TomlVec3, TransformToml,
+    TriangleToml,
+};
+use crate::scene::native::transform::{bake_normal, bake_point, placed, transform_matrix};
 
 /// Deepest chain of TOML files including one another that [`load_from`] follows
 /// (the top file counts as depth 1). Real scenes nest two or three deep; the
 /// cap keeps a long generated chain from exhausting the stack. A constant:
 /// raise it here if a scene needs more.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
-
-/// Where a TOML scene's includes come from: [`FileSystem`] when a scene is
-/// loaded from disk, [`InMemory`] for scenes and their includes held in memory
-/// (tests and the fuzz targets, which must never touch the disk).
-///
-/// [`FileSystem`]: crate::scene::loader::FileSystem
-/// [`InMemory`]: crate::scene::loader::InMemory
-pub trait SceneFiles {
-    /// The name that identifies `path` when looking for include cycles
-    /// (two names of one file must give the same identity).
-    fn identity(&self, path: &Path) -> PathBuf;
-    /// The bytes of the TOML file at `path`; an error without a line when it cannot be read.
-    fn read(&self, path: &Path) -> Result<Vec<u8>, SceneError>;
-    /// The scene in the non-TOML file at `path` (NFF, OBJ, PLY), read by extension.
-    fn load(&self, path: &Path) -> Result<Scene, SceneError>;
-}
 
 /// Read the TOML scene at `path`, taking it and its includes from `files`.
 pub fn load_from(path: &Path, files: &dyn SceneFiles) -> Result<Scene, SceneError> {
@@ -118,14 +53,6 @@ fn load_nested(path: &Path, nesting: &mut Nesting) -> Result<Scene, SceneError> 
     let result = parse_nested(path, text, nesting);
     nesting.stack.pop();
     result
-}
-
-/// `bytes` as text, or an error at the line of the first byte that is not UTF-8.
-pub fn utf8_text<'a>(path: &Path, bytes: &'a [u8]) -> Result<&'a str, SceneError> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        let line = line_of(bytes, e.valid_up_to());
-        SceneError::at(path, line, "expected UTF-8 text (TOML), found binary data")
-    })
 }
 
 /// Parse TOML scene text; `path` names the file in errors and locates
@@ -178,199 +105,6 @@ fn parse_nested(path: &Path, text: &str, nesting: &mut Nesting) -> Result<Scene,
     Ok(reader.scene)
 }
 
-/// 1-based line of byte `offset`.
-fn line_of(text: &[u8], offset: usize) -> usize {
-    1 + text[..offset.min(text.len())]
-        .iter()
-        .filter(|&&b| b == b'\n')
-        .count()
-}
-
-/// serde's "invalid type: X, expected Y" reworded as "expected Y, found X".
-fn reword(message: &str) -> String {
-    for prefix in ["invalid type: ", "invalid value: ", "invalid length "] {
-        if let Some(rest) = message.strip_prefix(prefix)
-            && let Some((found, expected)) = rest.split_once(", expected ")
-        {
-            let found = if prefix == "invalid length " {
-                format!("length {found}")
-            } else {
-                found.to_string()
-            };
-            return format!("expected {expected}, found {found}");
-        }
-    }
-    message.to_string()
-}
-
-/// A finite number that fits an f32 (TOML also allows nan and inf).
-#[derive(Clone, Copy, Debug)]
-struct Num(f32);
-
-impl<'de> Deserialize<'de> for Num {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let x = f64::deserialize(d)?;
-        let f = x as f32;
-        if !x.is_finite() {
-            return Err(D::Error::custom(format!("expected a finite number, found {x}")));
-        }
-        if !f.is_finite() {
-            return Err(D::Error::custom(format!(
-                "expected a number within ±3.4e38, found {x:e}"
-            )));
-        }
-        Ok(Num(f))
-    }
-}
-
-/// A point, vector or colour: `[x, y, z]` of finite numbers.
-#[derive(Clone, Copy, Debug, Deserialize)]
-#[serde(from = "[Num; 3]")]
-struct V3(Vec3);
-
-impl From<[Num; 3]> for V3 {
-    fn from([x, y, z]: [Num; 3]) -> Self {
-        V3(Vec3::new(x.0, y.0, z.0))
-    }
-}
-
-/// The top-level keys other than `objects`.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct FileToml {
-    background: Option<V3>,
-    camera: Option<Spanned<CameraToml>>,
-    #[serde(default)]
-    materials: BTreeMap<String, MaterialToml>,
-    #[serde(default)]
-    lights: Vec<LightToml>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CameraToml {
-    eye: V3,
-    center: V3,
-    up: Option<V3>,
-    fovx: Num,
-    fovy: Num,
-    width: u32,
-    height: u32,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MaterialToml {
-    color: Option<V3>,
-    kd: Option<Num>,
-    ks: Option<Num>,
-    shine: Option<Num>,
-    transmittance: Option<Num>,
-    ior: Option<Num>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LightToml {
-    position: V3,
-    color: Option<V3>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SphereToml {
-    center: V3,
-    radius: Spanned<Num>,
-    #[serde(default)]
-    inside_only: bool,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct PlaneToml {
-    implicit: Option<[Num; 4]>,
-    point: Option<V3>,
-    normal: Option<V3>,
-    origin: Option<V3>,
-    i: Option<V3>,
-    j: Option<V3>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct TriangleToml {
-    vertices: [V3; 3],
-    normals: Option<[V3; 3]>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct PolygonToml {
-    vertices: Vec<V3>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ConeToml {
-    base: V3,
-    base_radius: Num,
-    apex: V3,
-    apex_radius: Num,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct IncludeToml {
-    path: Spanned<String>,
-    #[serde(default)]
-    keep_lights: bool,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct TransformToml {
-    matrix: Option<[[Num; 4]; 4]>,
-    scale: Option<ScaleToml>,
-    rotate: Option<RotateToml>,
-    translate: Option<V3>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RotateToml {
-    axis: V3,
-    degrees: Num,
-}
-
-/// `scale = 2` or `scale = [sx, sy, sz]`.
-struct ScaleToml(Vec3);
-
-impl<'de> Deserialize<'de> for ScaleToml {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Visitor;
-        impl<'de> serde::de::Visitor<'de> for Visitor {
-            type Value = ScaleToml;
-            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                f.write_str("a number or an array of 3 numbers")
-            }
-            fn visit_f64<E: serde::de::Error>(self, x: f64) -> Result<ScaleToml, E> {
-                Num::deserialize(serde::de::value::F64Deserializer::<E>::new(x))
-                    .map(|s| ScaleToml(Vec3::splat(s.0)))
-            }
-            fn visit_i64<E: serde::de::Error>(self, x: i64) -> Result<ScaleToml, E> {
-                self.visit_f64(x as f64)
-            }
-            fn visit_u64<E: serde::de::Error>(self, x: u64) -> Result<ScaleToml, E> {
-                self.visit_f64(x as f64)
-            }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<ScaleToml, A::Error> {
-                V3::deserialize(serde::de::value::SeqAccessDeserializer::new(seq)).map(|v| ScaleToml(v.0))
-            }
-        }
-        d.deserialize_any(Visitor)
-    }
-}
-
 /// The reader's state while it walks the file.
 struct Reader<'a> {
     path: &'a Path,
@@ -398,7 +132,7 @@ impl Reader<'_> {
 
     /// Background, camera, materials and lights.
     fn header(&mut self, file: FileToml) -> Result<(), SceneError> {
-        if let Some(V3(background)) = file.background {
+        if let Some(TomlVec3(background)) = file.background {
             self.scene.background = background;
         }
         if let Some(camera) = file.camera {
@@ -659,73 +393,5 @@ impl Reader<'_> {
             }));
         }
         Ok(())
-    }
-}
-
-/// The matrix of a `transform` table, checked to be affine and invertible.
-fn transform_matrix(t: TransformToml) -> Result<Mat4, String> {
-    let m = match t {
-        TransformToml {
-            matrix: Some(rows),
-            scale: None,
-            rotate: None,
-            translate: None,
-        } => Mat4::from_cols_array_2d(&rows.map(|row| row.map(|x| x.0))).transpose(),
-        TransformToml { matrix: Some(_), .. } => {
-            return Err("expected either `matrix` or `scale`/`rotate`/`translate`, found both".into());
-        }
-        TransformToml {
-            scale,
-            rotate,
-            translate,
-            ..
-        } => {
-            let scale = scale.map_or(Vec3::ONE, |s| s.0);
-            let rotation = match rotate {
-                Some(r) => {
-                    let axis = r
-                        .axis
-                        .0
-                        .try_normalize()
-                        .ok_or("expected a non-zero rotation axis, found [0, 0, 0]")?;
-                    Quat::from_axis_angle(axis, r.degrees.0.to_radians())
-                }
-                None => Quat::IDENTITY,
-            };
-            Mat4::from_scale_rotation_translation(scale, rotation, translate.map_or(Vec3::ZERO, |v| v.0))
-        }
-    };
-    if m.row(3) != Vec4::W {
-        return Err(geometry_message(&GeometryError::NotAffine));
-    }
-    let det = m.determinant();
-    if det == 0.0 || !det.is_finite() || !m.inverse().is_finite() {
-        return Err(geometry_message(&GeometryError::SingularTransform));
-    }
-    Ok(m)
-}
-
-/// `prim` as it is, or under `transform` (composed with an existing transform).
-fn placed(prim: Primitive, transform: Option<Mat4>) -> Result<Primitive, GeometryError> {
-    let Some(m) = transform else {
-        return Ok(prim);
-    };
-    let t = match prim {
-        Primitive::Transformed(inner) => Transformed::new(inner.object().clone(), m * inner.matrix())?,
-        prim => Transformed::new(prim, m)?,
-    };
-    Ok(Primitive::Transformed(Box::new(t)))
-}
-
-/// A vertex under the transform.
-fn bake_point(p: Vec3, transform: Option<Mat4>) -> Vec3 {
-    transform.map_or(p, |m| m.transform_point3(p))
-}
-
-/// A shading normal under the transform: by `M⁻ᵀ`, renormalised.
-fn bake_normal(n: Vec3, transform: Option<Mat4>) -> Vec3 {
-    match transform {
-        Some(m) => (Mat3::from_mat4(m.inverse()).transpose() * n).normalize_or_zero(),
-        None => n.normalize_or_zero(),
     }
 }
