@@ -11,8 +11,8 @@ use crate::embree::EmbreeError;
 /// The device configuration the comparisons use: Embree's 8-wide AVX2 kernels,
 /// which match raypack's 8-wide packets, and one build thread. (Tracing runs on
 /// the caller's threads whatever `threads` says; it only sizes Embree's BVH
-/// builder.) On this project's Zen 5 machines forcing `isa=avx2` was measured to
-/// make no difference against Embree's default AVX-512 choice.
+/// builder.) Against Embree's own choice (AVX-512 where the CPU has it) see
+/// `docs/measurements.md`, "Constants".
 pub const DEFAULT_CONFIG: &str = crate::engine::DEFAULT_EMBREE_CONFIG;
 
 /// Errors Embree reported through its error callback, oldest first.
