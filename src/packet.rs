@@ -124,7 +124,7 @@ impl<F: SimdFloat> RayPacket<F> {
 pub const COHERENT_COS: f32 = 0.99;
 
 /// Fraction of the scene box's diagonal that the origins of a packet's lanes
-/// must span for the packet to count as scattered ([`is_scattered`]).
+/// must span for the packet to count as scattered ([`RayPacket::is_scattered`]).
 pub const SCATTERED_SPREAD: f32 = 0.25;
 
 /// Classification: which walk suits a packet (the BVH traversal and Embree's
