@@ -26,7 +26,7 @@ fn bench_setup(c: &mut Criterion, setup: &TraversalSetup) {
     group.sample_size(10);
     group.bench_function("build", |b| b.iter(|| Bvh::new(&setup.prims)));
     let bvh = Bvh::new(&setup.prims);
-    for set in &setup.sets {
+    for set in &setup.kinds {
         group.throughput(Throughput::Elements(set.rays.len() as u64));
         group.bench_function(BenchmarkId::new(set.kind.name(), "single"), |b| {
             b.iter(|| trace_single(&bvh, set))

@@ -87,7 +87,7 @@ fn raypack_and_embree_agree_on_hit_or_miss_of_every_kind() {
     for setup in setups() {
         let bvh = Bvh::new(&setup.prims);
         let embree = EmbreeScene::new(device.clone(), &setup.prims).unwrap();
-        for set in &setup.sets {
+        for set in &setup.kinds {
             let ours = single_answers(&bvh, set);
             let theirs = single_answers(&embree, set);
             let same = ours.iter().zip(&theirs).filter(|(a, b)| a == b).count();

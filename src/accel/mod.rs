@@ -12,11 +12,13 @@ pub mod bvh;
 pub mod kind;
 pub mod queries;
 pub mod stats;
+pub mod traversal_counter;
 
 pub use brute_force::BruteForce;
 pub use bvh::Bvh;
 pub use kind::{AccelKind, AnyAccel};
 pub use stats::TraversalStats;
+pub use traversal_counter::TraversalCounter;
 
 use crate::accel::stats::{Counter, NoStats};
 use crate::packet::{HitPacket, RayPacket};

@@ -2,13 +2,16 @@
 //! plain path.
 //!
 //! Traversal code is generic over a [`Counter`]. The `*_counted` queries of
-//! [`Accel`] run with any counter the caller owns, such as a
-//! [`TraversalStats`], so a renderer keeps one per tile (or per lane, for a
-//! heat map) and adds them up with [`TraversalStats::merge`]; the plain
-//! queries run the same code with [`NoStats`], a zero-sized counter whose
-//! methods are empty and vanish after inlining. No atomics, no globals.
+//! [`Accel`] run with a counter the caller owns: a [`TraversalCounter`]
+//! counts the totals, a [`TraversalStats`] (and, when asked, each lane's
+//! cost), so a renderer keeps one per tile and adds the totals up with
+//! [`TraversalStats::merge`]; the plain queries run the same code with
+//! [`NoStats`], a zero-sized counter whose methods are empty and vanish after
+//! inlining. No atomics, no globals. (Every query is compiled once per counter
+//! type and instruction set, which is why there are only these two.)
 //!
 //! [`Accel`]: crate::accel::Accel
+//! [`TraversalCounter`]: crate::accel::traversal_counter::TraversalCounter
 
 use std::ops::AddAssign;
 
@@ -85,51 +88,7 @@ pub struct TraversalStats {
     pub fallback_rays: u64,
 }
 
-impl Counter for TraversalStats {
-    #[inline(always)]
-    fn rays(&mut self, n: u64) {
-        self.rays += n;
-    }
-    #[inline(always)]
-    fn packet(&mut self) {
-        self.packets += 1;
-    }
-    #[inline(always)]
-    fn node(&mut self) {
-        self.nodes_visited += 1;
-    }
-    #[inline(always)]
-    fn prim(&mut self) {
-        self.prim_tests += 1;
-    }
-    #[inline(always)]
-    fn packet_node<F: SimdFloat>(&mut self, mask: F) {
-        let lanes = u64::from(mask.bitmask().count_ones());
-        self.nodes_visited += lanes;
-        self.simd_step(lanes, F::LANES as u64);
-    }
-    #[inline(always)]
-    fn packet_prim<F: SimdFloat>(&mut self, mask: F) {
-        let lanes = u64::from(mask.bitmask().count_ones());
-        self.prim_tests += lanes;
-        self.simd_step(lanes, F::LANES as u64);
-    }
-    #[inline(always)]
-    fn fallback(&mut self, n: u64) {
-        self.fallback_rays += n;
-    }
-    #[inline(always)]
-    fn lane(&mut self, _: usize) {}
-}
-
 impl TraversalStats {
-    #[inline(always)]
-    fn simd_step(&mut self, lanes: u64, width: u64) {
-        self.simd_steps += 1;
-        self.simd_active_lanes += lanes;
-        self.simd_lane_slots += width;
-    }
-
     /// Add another tile's (or ray's) counts to these.
     pub fn merge(&mut self, other: &TraversalStats) {
         self.rays += other.rays;
@@ -203,33 +162,28 @@ fn ratio(a: u64, b: u64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use wide::f32x8;
 
     #[test]
-    fn packet_events_count_lanes_and_slots() {
-        let mut s = TraversalStats::default();
-        s.rays(8);
-        s.packet_node(f32x8::mask_from_bits(0b1111_0000));
-        s.packet_prim(f32x8::mask_from_bits(0b0000_0011));
-        assert_eq!(s.nodes_visited, 4);
-        assert_eq!(s.prim_tests, 2);
-        assert_eq!(s.simd_steps, 2);
-        assert_eq!(s.simd_lane_slots, 16);
-        assert!((s.lane_utilisation() - 6.0 / 16.0).abs() < 1e-12);
-        assert!((s.cost_per_ray() - 6.0 / 8.0).abs() < 1e-12);
-        let mut total = TraversalStats::default();
-        total += &s;
-        total += &s;
-        assert_eq!(total.simd_active_lanes, 12);
-        assert_eq!(total.rays, 16);
-        total.fallback(4);
+    fn caption_names_the_packet_figures_when_packets_were_traced() {
+        let s = TraversalStats {
+            rays: 16,
+            nodes_visited: 8,
+            prim_tests: 4,
+            simd_steps: 4,
+            simd_active_lanes: 12,
+            simd_lane_slots: 32,
+            fallback_rays: 4,
+            ..TraversalStats::default()
+        };
         assert!(
-            total
-                .caption()
+            s.caption()
                 .contains("lanes 38% (packets), 0.25 single-ray fallbacks/ray"),
             "{}",
-            total.caption()
+            s.caption()
         );
+        let mut total = s;
+        total += &s;
+        assert_eq!((total.rays, total.simd_active_lanes), (32, 24));
     }
 
     #[test]

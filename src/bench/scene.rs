@@ -143,7 +143,7 @@ pub enum Rays<'a> {
     Primary(&'a PrimaryFrame),
     /// The rays of one kind: one by one for the scalar kernel, in its 8- or 16-ray packets
     /// (4×4-pixel blocks; the variant's block must be [`Block::B4x4`]) for the packet kernels.
-    Set(&'a KindRays),
+    OfKind(&'a KindRays),
 }
 
 impl Rays<'_> {
@@ -151,7 +151,7 @@ impl Rays<'_> {
     pub fn count(&self) -> u64 {
         match self {
             Self::Primary(frame) => frame.rays(),
-            Self::Set(set) => set.rays.len() as u64,
+            Self::OfKind(set) => set.rays.len() as u64,
         }
     }
 }
@@ -163,7 +163,7 @@ pub fn units<'a, A: Accel>(
     variants: &[Variant],
     engine: usize,
 ) -> Result<Vec<Unit<'a>>, String> {
-    if let (Rays::Set(set), Some(v)) = (rays, variants.iter().find(|v| v.block != Block::B4x4)) {
+    if let (Rays::OfKind(set), Some(v)) = (rays, variants.iter().find(|v| v.block != Block::B4x4)) {
         return Err(format!(
             "{v:?}: {} rays are packed in 4x4 blocks",
             set.kind.name()
@@ -176,7 +176,7 @@ pub fn units<'a, A: Accel>(
                 Rays::Primary(frame) => {
                     Box::new(move |pool| frame.trace(accel, variant.kernel, variant.block, pool))
                 }
-                Rays::Set(set) => Box::new(move |pool| {
+                Rays::OfKind(set) => Box::new(move |pool| {
                     pool.install(|| match variant.kernel {
                         KernelKind::Scalar => trace_single(accel, set),
                         KernelKind::Packet8 => trace_packets(accel, set),
@@ -209,7 +209,7 @@ pub fn measure<A: Accel>(
 }
 
 /// Measure the rays of `set` per variant as [`measure`] does the primary rays
-/// (see [`Rays::Set`]).
+/// (see [`Rays::OfKind`]).
 pub fn measure_set<A: Accel>(
     accel: &A,
     set: &KindRays,
@@ -217,7 +217,7 @@ pub fn measure_set<A: Accel>(
     runs: usize,
     hooks: &TimingHooks,
 ) -> Result<Vec<Timing>, String> {
-    let rays = Rays::Set(set);
+    let rays = Rays::OfKind(set);
     interleave(&units(accel, rays, variants, 0)?, runs, hooks, rays.count())
 }
 

@@ -17,7 +17,7 @@ use crate::ray::Ray;
 use crate::rng::Rng;
 
 /// Which rays `raypack check` traces: the `rays` of its JSON report.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum CheckRays {
     /// One ray per pixel centre.

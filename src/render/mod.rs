@@ -20,7 +20,6 @@ pub mod engine;
 pub mod frame;
 pub mod grid;
 pub mod kernel;
-pub mod lane_costs;
 pub mod optics;
 pub mod settings;
 pub mod shade;
@@ -45,12 +44,11 @@ pub use tiles::Tile;
 pub use whitted::Tracer;
 
 use crate::accel::stats::NoStats;
-use crate::accel::{Accel, TraversalStats};
+use crate::accel::{Accel, TraversalCounter, TraversalStats};
 use crate::camera::Camera;
 use crate::scene::Scene;
 use batch::BATCH;
 use counting::{Tally, TileCounter};
-use lane_costs::LaneCosts;
 use whitted::lanes;
 
 /// A finished render: the frame, the tiles with their times, the ray counts,
@@ -110,9 +108,9 @@ pub fn render_counted<A: Accel>(
         on_tile,
     };
     match counting {
-        Counting::Off => inputs.counted::<NoStats>(),
-        Counting::Totals => inputs.counted::<TraversalStats>(),
-        Counting::PerPixel => inputs.counted::<LaneCosts>(),
+        Counting::Off => inputs.counted(NoStats),
+        Counting::Totals => inputs.counted(TraversalCounter::totals()),
+        Counting::PerPixel => inputs.counted(TraversalCounter::per_lane()),
     }
 }
 
@@ -130,17 +128,18 @@ struct RenderInputs<'a, A> {
 }
 
 impl<A: Accel> RenderInputs<'_, A> {
-    /// Render counting with `C`, through the kernel the settings name.
-    fn counted<C: TileCounter>(self) -> Render {
+    /// Render counting with a copy of `counter` per tile, through the kernel
+    /// the settings name.
+    fn counted<C: TileCounter>(self, counter: C) -> Render {
         match self.settings.kernel {
-            KernelKind::Scalar => self.traced::<ScalarKernel, C>(),
-            KernelKind::Packet8 => self.traced::<Packet8Kernel, C>(),
-            KernelKind::Packet16 => self.traced::<Packet16Kernel, C>(),
+            KernelKind::Scalar => self.traced::<ScalarKernel, C>(counter),
+            KernelKind::Packet8 => self.traced::<Packet8Kernel, C>(counter),
+            KernelKind::Packet16 => self.traced::<Packet16Kernel, C>(counter),
         }
     }
 
-    /// Render through kernel `K`, counting with `C`.
-    fn traced<K: TraceKernel, C: TileCounter>(self) -> Render {
+    /// Render through kernel `K`, counting with a copy of `counter` per tile.
+    fn traced<K: TraceKernel, C: TileCounter>(self, counter: C) -> Render {
         let (scene, accel, camera, settings) = (self.scene, self.accel, self.camera, self.settings);
         let grid = Grid::new(*camera, settings.sampling);
         let tracer = Tracer {
@@ -155,14 +154,15 @@ impl<A: Accel> RenderInputs<'_, A> {
         let done = tiles::run(
             self.pool,
             &tiles,
-            |tile| trace_tile::<K, C, A>(&tracer, &grid, tile, settings),
+            |tile| trace_tile::<K, C, A>(&tracer, &grid, tile, settings, counter.clone()),
             self.on_tile,
         );
         let trace_seconds = start.elapsed().as_secs_f64();
 
         // Assemble the frame (and the pixel costs) from the tiles.
         let mut frame = Frame::new(grid.width, grid.height);
-        let mut pixel_cost = vec![0; if C::PER_PIXEL { frame.prim.len() } else { 0 }];
+        let per_pixel = counter.counts_per_pixel();
+        let mut pixel_cost = vec![0; if per_pixel { frame.prim.len() } else { 0 }];
         for (tile, out) in tiles.iter().zip(&done) {
             for row in 0..tile.height {
                 let src = (row * tile.width) as usize..((row + 1) * tile.width) as usize;
@@ -171,7 +171,7 @@ impl<A: Accel> RenderInputs<'_, A> {
                 frame.color[dst.clone()].copy_from_slice(&out.value.color[src.clone()]);
                 frame.depth[dst.clone()].copy_from_slice(&out.value.depth[src.clone()]);
                 frame.prim[dst.clone()].copy_from_slice(&out.value.prim[src.clone()]);
-                if C::PER_PIXEL {
+                if per_pixel {
                     pixel_cost[dst].copy_from_slice(&out.value.cost[src]);
                 }
             }
@@ -189,7 +189,7 @@ impl<A: Accel> RenderInputs<'_, A> {
                     t
                 }),
                 tiles: per_tile,
-                pixel_cost: C::PER_PIXEL.then_some(pixel_cost),
+                pixel_cost: per_pixel.then_some(pixel_cost),
             });
         Render {
             frame,
@@ -220,13 +220,17 @@ fn trace_tile<K: TraceKernel, C: TileCounter, A: Accel>(
     grid: &Grid,
     tile: &Tile,
     settings: &RenderSettings,
+    counter: C,
 ) -> TileOut {
     let n = tile.pixels();
     let mut color = vec![Vec3::ZERO; n];
     let mut depth = vec![f32::INFINITY; n];
     let mut prim = vec![crate::ray::NO_HIT; n];
-    let mut cost = vec![0; if C::PER_PIXEL { n } else { 0 }];
-    let mut tally = Tally::<C>::default();
+    let mut cost = vec![0; if counter.counts_per_pixel() { n } else { 0 }];
+    let mut tally = Tally {
+        rays: RayCounts::default(),
+        traversal: counter,
+    };
     let scene = tracer.scene;
     for_each_block(grid, tile, settings.block, |rays, active, index| {
         let hits = K::intersect(tracer.accel, rays, active, &mut tally.traversal);

@@ -3,7 +3,7 @@
 
 use crate::support;
 use clap::ValueEnum;
-use raypack::accel::{Accel, AccelKind, AnyAccel, BruteForce, Bvh, TraversalStats};
+use raypack::accel::{Accel, AccelKind, AnyAccel, BruteForce, Bvh, TraversalCounter};
 use raypack::packet::RayPacket8;
 use raypack::scene::generate::random;
 use raypack::simd::SimdFloat;
@@ -15,7 +15,7 @@ fn counted_queries_return_the_plain_answers() {
     let rays = support::bvh::random_rays(bounds, 4000, 22);
     let bvh = Bvh::new(&prims);
     let brute = BruteForce::new(&prims);
-    let (mut s_bvh, mut s_brute) = (TraversalStats::default(), TraversalStats::default());
+    let (mut s_bvh, mut s_brute) = (TraversalCounter::totals(), TraversalCounter::totals());
     for ray in &rays {
         let plain = support::bvh::key(&bvh.intersect(ray));
         assert_eq!(support::bvh::key(&bvh.intersect_counted(ray, &mut s_bvh)), plain);
@@ -24,19 +24,19 @@ fn counted_queries_return_the_plain_answers() {
             plain
         );
         assert_eq!(
-            bvh.occluded_counted(ray, &mut TraversalStats::default()),
+            bvh.occluded_counted(ray, &mut TraversalCounter::totals()),
             bvh.occluded(ray)
         );
         assert_eq!(
-            brute.occluded_counted(ray, &mut TraversalStats::default()),
+            brute.occluded_counted(ray, &mut TraversalCounter::totals()),
             bvh.occluded(ray)
         );
     }
     for chunk in rays.chunks(8) {
         let p = RayPacket8::from_rays(chunk);
         let plain = bvh.intersect_packet(&p);
-        let counted = bvh.intersect_packet_counted(&p, &mut TraversalStats::default());
-        let brute_counted = brute.intersect_packet_counted(&p, &mut TraversalStats::default());
+        let counted = bvh.intersect_packet_counted(&p, &mut TraversalCounter::totals());
+        let brute_counted = brute.intersect_packet_counted(&p, &mut TraversalCounter::totals());
         for lane in 0..chunk.len() {
             assert_eq!(
                 support::bvh::key(&counted.hit(lane)),
@@ -48,10 +48,11 @@ fn counted_queries_return_the_plain_answers() {
             );
         }
         let occluded = bvh.occluded_packet(&p).bitmask();
-        let mut s = TraversalStats::default();
+        let mut s = TraversalCounter::totals();
         assert_eq!(bvh.occluded_packet_counted(&p, &mut s).bitmask(), occluded);
         assert_eq!(brute.occluded_packet_counted(&p, &mut s).bitmask(), occluded);
     }
+    let (s_bvh, s_brute) = (s_bvh.total(), s_brute.total());
     // Brute force tests every primitive once per ray and visits no node.
     assert_eq!(s_brute.rays, rays.len() as u64);
     assert_eq!(s_brute.prim_tests, (rays.len() * prims.len()) as u64);
@@ -72,19 +73,20 @@ fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
     let prims = random::bumpy_sphere(20_000, 23);
     let bvh = Bvh::new(&prims);
     let bounds = support::bvh::scene_bounds(&prims);
-    let mut primary = TraversalStats::default();
+    let mut primary = TraversalCounter::totals();
     for (_, packet) in support::bvh::primary_packets(bounds, 256, 256) {
         bvh.intersect_packet_counted(&packet, &mut primary);
     }
     // Rays from one point per packet in random directions, as secondary rays
     // from neighbouring hit points are (rays from all over the scene share no
     // node, and walk as single rays from the root).
-    let mut random = TraversalStats::default();
+    let mut random = TraversalCounter::totals();
     for chunk in support::bvh::random_rays(bounds, 256 * 256, 24).chunks_mut(8) {
         let origin = chunk[0].origin;
         chunk.iter_mut().for_each(|ray| ray.origin = origin);
         bvh.intersect_packet_counted(&RayPacket8::from_rays(chunk), &mut random);
     }
+    let (primary, random) = (primary.total(), random.total());
     assert_eq!(primary.rays, 256 * 256);
     assert_eq!(primary.packets, 256 * 256 / 8);
     let (p, r) = (primary.lane_utilisation(), random.lane_utilisation());
@@ -111,12 +113,12 @@ fn accel_kind_parses_builds_and_forwards() {
     let bvh = AccelKind::Bvh.build(&prims);
     assert!(matches!(none, AnyAccel::None(_)) && none.kind() == AccelKind::None);
     assert!(matches!(bvh, AnyAccel::Bvh(_)) && bvh.kind() == AccelKind::Bvh);
-    let mut stats = [TraversalStats::default(), TraversalStats::default()];
+    let mut stats = [TraversalCounter::totals(), TraversalCounter::totals()];
     for ray in &rays {
         let a = none.intersect_counted(ray, &mut stats[0]);
         let b = bvh.intersect_counted(ray, &mut stats[1]);
         assert_eq!(support::bvh::key(&a), support::bvh::key(&b));
         assert_eq!(none.occluded(ray), bvh.occluded(ray));
     }
-    assert!(stats[1].prim_tests < stats[0].prim_tests / 10);
+    assert!(stats[1].total().prim_tests < stats[0].total().prim_tests / 10);
 }

@@ -7,7 +7,7 @@ use crate::support;
 use crate::support::cli::{raypack, scratch, stderr};
 
 use glam::Vec3;
-use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalStats};
+use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalCounter, TraversalStats};
 use raypack::camera::Camera;
 use raypack::geometry::{Primitive, Sphere};
 use raypack::packet::{RayPacket8, RayPacket16};
@@ -41,10 +41,11 @@ fn scalar_primary<A: Accel>(accel: &A, camera: &Camera) -> (TraversalStats, Vec<
     let mut cost = Vec::new();
     for y in 0..camera.height {
         for x in 0..camera.width {
-            let mut one = TraversalStats::default();
+            let mut one = TraversalCounter::totals();
             accel.intersect_counted(&camera.pixel_ray(x, y), &mut one);
+            let one = one.total();
             cost.push(one.nodes_visited + one.prim_tests);
-            total += &one;
+            total += one;
         }
     }
     (total, cost)
@@ -55,7 +56,7 @@ fn scalar_primary<A: Accel>(accel: &A, camera: &Camera) -> (TraversalStats, Vec<
 /// packet per half block that has a pixel.
 fn packet_primary<A: Accel>(accel: &A, camera: &Camera, s: &RenderSettings) -> TraversalStats {
     let grid = Grid::new(*camera, s.sampling);
-    let mut total = TraversalStats::default();
+    let mut total = TraversalCounter::totals();
     for tile in tiles(grid.width, grid.height, s.tile_size) {
         for_each_block(&grid, &tile, s.block, |rays, active, _| match s.kernel {
             KernelKind::Packet16 => {
@@ -72,7 +73,7 @@ fn packet_primary<A: Accel>(accel: &A, camera: &Camera, s: &RenderSettings) -> T
             KernelKind::Scalar => unreachable!("packet kernels only"),
         });
     }
-    total
+    *total.total()
 }
 
 /// Render counted per pixel, checking it against the plain and the totals-only

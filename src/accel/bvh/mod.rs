@@ -18,7 +18,7 @@
 //! same records.
 //!
 //! ```
-//! use raypack::accel::{Accel, BruteForce, Bvh, TraversalStats};
+//! use raypack::accel::{Accel, BruteForce, Bvh, TraversalCounter};
 //! use raypack::scene::generate::random::random_spheres;
 //! use raypack::packet::RayPacket8;
 //! use raypack::ray::Ray;
@@ -31,10 +31,10 @@
 //! assert_eq!(hit, BruteForce::new(&prims).intersect(&ray));
 //!
 //! // Eight rays at once, with the cost counted.
-//! let mut stats = TraversalStats::default();
+//! let mut stats = TraversalCounter::totals();
 //! let hits = bvh.intersect_packet_counted(&RayPacket8::from_rays(&[ray; 8]), &mut stats);
 //! assert_eq!(hits.hit(7), hit);
-//! println!("{}", stats.caption()); // e.g. "9.0 nodes/ray, 1.0 prims/ray, lanes 100%"
+//! println!("{}", stats.total().caption()); // e.g. "9.0 nodes/ray, 1.0 prims/ray, lanes 100%"
 //! ```
 //!
 //! [`BruteForce`]: crate::accel::BruteForce

@@ -163,7 +163,7 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
 mod tests {
     use glam::Vec3;
 
-    use crate::accel::stats::TraversalStats;
+    use crate::accel::TraversalCounter;
     use crate::accel::{Accel, Bvh};
     use crate::packet::RayPacket8;
     use crate::ray::Ray;
@@ -186,7 +186,7 @@ mod tests {
         ] {
             let bvh = Bvh::new(&prims);
             let bounds = bvh.bounds();
-            let mut stats = TraversalStats::default();
+            let mut stats = TraversalCounter::totals();
             for _ in 0..2_000 {
                 let centre = rng.point_in(bounds.min, bounds.max);
                 let spread = 0.02 * (bounds.max - bounds.min).length();
@@ -214,6 +214,7 @@ mod tests {
                     );
                 }
             }
+            let stats = stats.total();
             assert!(stats.simd_steps > 0 && stats.fallback_rays > 0, "{stats:?}");
         }
     }

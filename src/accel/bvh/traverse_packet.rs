@@ -268,7 +268,7 @@ mod tests {
     }
 
     fn scattered_packets_agree<F: SimdFloat>() {
-        use crate::accel::stats::TraversalStats;
+        use crate::accel::TraversalCounter;
         use crate::accel::{Accel, Bvh};
         use crate::scene::generate::random;
         let mut rng = Rng::new(12);
@@ -286,7 +286,8 @@ mod tests {
             // misses the packet's root test, but a single ray counts the root.
             let margin = 0.01 * (bounds.max - bounds.min);
             let inside = Aabb::new(bounds.min + margin, bounds.max - margin);
-            let (mut packet_stats, mut single_stats) = (TraversalStats::default(), TraversalStats::default());
+            let (mut packet_stats, mut single_stats) =
+                (TraversalCounter::totals(), TraversalCounter::totals());
             for _ in 0..500 {
                 let rays: Vec<Ray> = (0..F::LANES)
                     .map(|_| {
@@ -326,6 +327,7 @@ mod tests {
                     );
                 }
             }
+            let (packet_stats, single_stats) = (packet_stats.total(), single_stats.total());
             assert_eq!(packet_stats.nodes_visited, single_stats.nodes_visited);
             assert_eq!(packet_stats.prim_tests, single_stats.prim_tests);
             if bvh.info().unbounded == 0 {

@@ -64,7 +64,7 @@ pub fn measure(
         .map(|_| {
             pairs
                 .iter()
-                .map(|(setup, _)| Timings::empty(setup.sets.len()))
+                .map(|(setup, _)| Timings::empty(setup.kinds.len()))
                 .collect()
         })
         .collect();
@@ -154,7 +154,7 @@ fn engines_on_scenes<'a>(
                 setup,
                 variant,
                 structure: structure.ok_or_else(|| anyhow::anyhow!("{} was not built", variant.name()))?,
-                hits: vec![0; setup.sets.len()],
+                hits: vec![0; setup.kinds.len()],
             })
         })
         .collect()
@@ -193,7 +193,7 @@ fn trace_each_kind(
     round: usize,
     hooks: &TimingHooks,
 ) {
-    for (k, set) in on_scene.setup.sets.iter().enumerate() {
+    for (k, set) in on_scene.setup.kinds.iter().enumerate() {
         for (v, variant) in ["single", "packet8"].into_iter().enumerate() {
             let start = Instant::now();
             let hits = black_box(on_scene.structure.trace(set, v == 1));

@@ -1,7 +1,7 @@
 //! The traversal table: one row per scene, engine and thread count, with the
 //! figures of each ray kind, made from the times of the measurement.
 
-use crate::accel::{Accel, Bvh, TraversalStats};
+use crate::accel::{Accel, Bvh, TraversalCounter, TraversalStats};
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{KindRays, Query, RayKind};
 use crate::bench::traversal::engines::{EngineVariant, Structure};
@@ -187,7 +187,7 @@ fn row(
     let setup = measured.setup;
     let mrays = |per_ray: &[f64]| Summary::of(&per_ray.iter().map(|t| 1e-6 / t).collect::<Vec<_>>());
     let kinds = setup
-        .sets
+        .kinds
         .iter()
         .enumerate()
         .map(|(k, set)| -> anyhow::Result<KindRow> {
@@ -247,7 +247,7 @@ fn row(
 
 /// The traversal counts of `set` on `bvh`: single rays, packets.
 fn counted(bvh: &Bvh, set: &KindRays) -> [TraversalStats; 2] {
-    let mut stats = [TraversalStats::default(); 2];
+    let mut stats: [TraversalCounter; 2] = Default::default();
     for r in &set.rays {
         match set.kind.query() {
             Query::Nearest => _ = bvh.intersect_counted(r, &mut stats[0]),
@@ -260,5 +260,5 @@ fn counted(bvh: &Bvh, set: &KindRays) -> [TraversalStats; 2] {
             Query::AnyHit => _ = bvh.occluded_packet_counted(p, &mut stats[1]),
         }
     }
-    stats
+    stats.map(|s| *s.total())
 }

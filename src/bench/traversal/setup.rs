@@ -15,7 +15,7 @@ pub struct TraversalSetup {
     /// The primitives.
     pub prims: Vec<Primitive>,
     /// The rays of each kind measured, in the order asked.
-    pub sets: Vec<KindRays>,
+    pub kinds: Vec<KindRays>,
     /// Image size of the primary rays.
     pub resolution: (u32, u32),
 }
@@ -33,7 +33,7 @@ impl TraversalSetup {
         kinds: &[RayKind],
     ) -> Self {
         let bounds = scene_bounds(&prims);
-        let sets = RaySource {
+        let rays = RaySource {
             prims: &prims,
             bounds,
             camera,
@@ -45,7 +45,7 @@ impl TraversalSetup {
         Self {
             name: name.into(),
             prims,
-            sets,
+            kinds: rays,
             resolution: (camera.width, camera.height),
         }
     }
@@ -76,8 +76,8 @@ impl TraversalSetup {
     }
 
     /// The rays of `kind`, if measured.
-    pub fn set(&self, kind: RayKind) -> Option<&KindRays> {
-        self.sets.iter().find(|s| s.kind == kind)
+    pub fn rays_of(&self, kind: RayKind) -> Option<&KindRays> {
+        self.kinds.iter().find(|s| s.kind == kind)
     }
 }
 

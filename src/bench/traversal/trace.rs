@@ -89,10 +89,10 @@ mod tests {
     #[test]
     fn single_rays_and_packets_agree_with_brute_force_on_every_kind() {
         let s = TraversalSetup::generated("mesh", 500, (40, 20), 100, &RayKind::ALL).expect("known kind");
-        assert_eq!(s.set(RayKind::Primary).expect("primary").rays.len(), 800);
+        assert_eq!(s.rays_of(RayKind::Primary).expect("primary").rays.len(), 800);
         let bvh = Bvh::new(&s.prims);
         let brute = crate::accel::BruteForce::new(&s.prims);
-        for set in &s.sets {
+        for set in &s.kinds {
             let hits = trace_single(&brute, set);
             assert_eq!(trace_single(&bvh, set), hits, "{:?}", set.kind);
             assert_eq!(trace_packets(&bvh, set), hits, "{:?}", set.kind);

@@ -146,8 +146,8 @@ struct MeasurementPlan<'a> {
     frame: Option<&'a PrimaryFrame>,
     variants: &'a [Variant],
     /// The other ray kinds, and their variants (4×4 blocks).
-    sets: &'a [KindRays],
-    set_variants: &'a [Variant],
+    kind_rays: &'a [KindRays],
+    kind_variants: &'a [Variant],
     runs: usize,
     hooks: &'a TimingHooks,
 }
@@ -166,9 +166,9 @@ impl MeasurementPlan<'_> {
             kinds.push((RayKind::Primary, Rays::Primary(frame), self.variants));
         }
         kinds.extend(
-            self.sets
+            self.kind_rays
                 .iter()
-                .map(|s| (s.kind, Rays::Set(s), self.set_variants)),
+                .map(|s| (s.kind, Rays::OfKind(s), self.kind_variants)),
         );
         let mut out = Vec::new();
         for (kind, rays, variants) in kinds {
@@ -239,7 +239,7 @@ pub fn run(args: SceneArgs) -> CliResult {
             others.push(kind);
         }
     }
-    let sets = if others.is_empty() {
+    let kind_rays = if others.is_empty() {
         Vec::new()
     } else {
         let bounds = scene_bounds(&scene.primitives);
@@ -256,10 +256,10 @@ pub fn run(args: SceneArgs) -> CliResult {
         }
         .make(&others)
     };
-    let mut set_variants: Vec<Variant> = Vec::new();
+    let mut kind_variants: Vec<Variant> = Vec::new();
     for &kernel in &args.kernel {
         for &threads in &args.threads {
-            set_variants.push(Variant {
+            kind_variants.push(Variant {
                 kernel,
                 block: Block::B4x4,
                 threads: usize::from(threads),
@@ -283,8 +283,8 @@ pub fn run(args: SceneArgs) -> CliResult {
     let plan = MeasurementPlan {
         frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
         variants: &variants,
-        sets: &sets,
-        set_variants: &set_variants,
+        kind_rays: &kind_rays,
+        kind_variants: &kind_variants,
         runs: args.runs as usize,
         hooks: &run.hooks,
     };
