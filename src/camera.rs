@@ -104,6 +104,24 @@ impl Camera {
         Ray::unbounded(self.eye + offset, offset.normalize())
     }
 
+    /// The image point `(x, y)` that `p` is seen at, the inverse of
+    /// [`Camera::ray`] (the ray through it passes through `p`), whether or
+    /// not it lies inside the image; `None` for a point not in front of the
+    /// eye. Its depth along the view is `(eye − p)·w`.
+    pub fn project(&self, p: Vec3) -> Option<(f32, f32)> {
+        let d = p - self.eye;
+        let depth = -d.dot(self.w);
+        (depth > 0.0).then(|| {
+            let (alpha, beta) = (d.dot(self.u) / depth, d.dot(self.v) / depth);
+            let half_w = self.width as f32 * 0.5;
+            let half_h = self.height as f32 * 0.5;
+            (
+                half_w + alpha / self.tan_half_fovx * half_w,
+                half_h - beta / self.tan_half_fovy * half_h,
+            )
+        })
+    }
+
     /// The primary ray through the centre of pixel `(i, j)`.
     #[inline]
     pub fn pixel_ray(&self, i: u32, j: u32) -> Ray {
@@ -166,6 +184,32 @@ mod tests {
         let top = c.ray(100.0, 0.0);
         assert!((top.dir.angle_between(-Vec3::Z).to_degrees() - 30.0).abs() < 1e-3);
         assert!(top.dir.y > 0.0);
+    }
+
+    #[test]
+    fn project_inverts_the_primary_rays() {
+        let c = Camera::new(
+            Vec3::new(1.0, 2.0, 5.0),
+            Vec3::new(0.5, 0.0, -1.0),
+            Vec3::Y,
+            70.0,
+            50.0,
+            64,
+            48,
+        )
+        .unwrap();
+        for (x, y) in [(0.0, 0.0), (32.0, 24.0), (63.5, 10.25), (5.0, 47.0), (80.0, -3.0)] {
+            let ray = c.ray(x, y);
+            for t in [0.5, 3.0, 40.0] {
+                let (px, py) = c.project(ray.at(t)).expect("in front of the eye");
+                assert!(
+                    (px - x).abs() < 1e-3 && (py - y).abs() < 1e-3,
+                    "({x}, {y}) at t {t}: ({px}, {py})"
+                );
+            }
+        }
+        assert_eq!(c.project(c.eye + c.w), None, "behind the eye");
+        assert_eq!(c.project(c.eye), None, "at the eye");
     }
 
     #[test]

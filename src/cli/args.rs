@@ -128,6 +128,15 @@ fn image_fits(width: u32, height: u32, available: u64, source: &str) -> Result<(
     Ok(())
 }
 
+/// raypack's arguments as given (without the program's name), for a
+/// result to say how to run it again.
+pub fn arguments() -> Vec<String> {
+    std::env::args_os()
+        .skip(1)
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect()
+}
+
 /// The environment of this run, with Embree's version and device
 /// configuration when `embree_config` is given and the build has Embree.
 pub fn environment(embree_config: Option<&str>) -> Result<crate::environment::Environment, CliError> {

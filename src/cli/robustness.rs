@@ -1,4 +1,4 @@
-//! `raypack robustness [--shape S …] [--json]`: the robustness oracle
+//! `raypack robustness [--shape S …] [--json] [--crack-images DIR]`: the robustness oracle
 //! ([`crate::compare::robustness`]): rays whose right answer is known by
 //! construction, through the shared edges and vertices of closed meshes,
 //! grazing, spawned from the surface, far from the origin and tiny, and
@@ -7,20 +7,29 @@
 //! triangle test, in single rays and 8- and 16-wide packets; with the
 //! `embree` feature, Embree with its default flags and with
 //! `RTC_SCENE_FLAG_ROBUST`. Then the all-hits and inside/outside queries
-//! under each triangle test. Exits 1 if an engine of raypack's default
-//! triangle test leaks or hits itself, or a query under it goes wrong.
+//! under each triangle test. With `--crack-images`, a picture per mesh and
+//! engine of where its edge and vertex rays leaked
+//! ([`crate::compare::crack_image`]). Exits 1 if an engine of raypack's
+//! default triangle test leaks or hits itself, or a query under it goes wrong.
+
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use glam::Vec3;
 
 use crate::accel::Bvh;
+use crate::atomic_file::AtomicFile;
+use crate::cli::args::{arguments, environment};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
-use crate::compare::robustness::{self, Engine, Row, Sizes};
+use crate::compare::crack_image::crack_image;
+use crate::compare::robustness::{self, Engine, Row, Sizes, edge_outcomes};
+use crate::compare::robustness_result::RobustnessResult;
 use crate::compare::{Kernel, trace_rays};
 use crate::environment::Environment;
 use crate::geometry::triangle::TriangleTest;
 use crate::geometry::{Primitive, Triangle};
+use crate::picture::output::png_bytes;
 use crate::scene::generate::closed_mesh::ClosedShape;
 
 /// Options of `robustness`.
@@ -45,9 +54,13 @@ pub struct RobustnessArgs {
     /// Print every row (each mesh and placement), not only the totals.
     #[arg(long)]
     pub all_rows: bool,
-    /// Print one JSON object instead of the tables.
+    /// Print one JSON object instead of the tables (`raypack report` reads it).
     #[arg(long)]
     pub json: bool,
+    /// Write into DIR (made if missing) a PNG per mesh and engine of where
+    /// its edge and vertex rays leaked: `SHAPE-ENGINE.png`.
+    #[arg(long, value_name = "DIR")]
+    pub crack_images: Option<PathBuf>,
 }
 
 /// raypack's BVH over `triangles` under `test`, traced with `kernel`.
@@ -90,6 +103,33 @@ fn embree(robust: bool) -> Result<Engine<'static>, CliError> {
     })
 }
 
+/// The crack picture of `shape` under `engine` in `dir`: no spaces in its name.
+fn crack_path(dir: &Path, shape: ClosedShape, engine: &Engine) -> PathBuf {
+    dir.join(format!("{}-{}.png", shape.name(), engine.name.replace(' ', "-")))
+}
+
+/// Claim a crack picture in `dir` (made if missing) for every shape and
+/// engine, before any work.
+fn claim_crack_images<'e, 'a>(
+    dir: &Path,
+    shapes: &[ClosedShape],
+    engines: &'e [Engine<'a>],
+) -> Result<Vec<(ClosedShape, &'e Engine<'a>, AtomicFile)>, CliError> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| CliError::BadInput(anyhow::anyhow!("cannot make {}: {e}", dir.display())))?;
+    let mut files = Vec::new();
+    for &shape in shapes {
+        for engine in engines {
+            files.push((
+                shape,
+                engine,
+                AtomicFile::create(&crack_path(dir, shape, engine))?,
+            ));
+        }
+    }
+    Ok(files)
+}
+
 /// Run `robustness`.
 pub fn run(args: RobustnessArgs) -> CliResult {
     #[cfg(feature = "embree")]
@@ -110,31 +150,40 @@ pub fn run(args: RobustnessArgs) -> CliResult {
         engines.push(embree(false)?);
         engines.push(embree(true)?);
     }
+    let crack_files = match &args.crack_images {
+        Some(dir) => claim_crack_images(dir, &shapes, &engines)?,
+        None => Vec::new(),
+    };
+    // Every triangle test runs here: no one test is the run's.
+    let env = Environment {
+        triangle_test: String::new(),
+        ..environment(Some(crate::engine::DEFAULT_EMBREE_CONFIG))?
+    };
     let sizes = Sizes {
         spawn_points: args.spawn_points,
         random_rays: args.random_rays,
     };
     let rows = robustness::run(&shapes, &engines, sizes, args.seed);
-    let totals = robustness::totals(&rows);
     let tests = [TriangleTest::Watertight, TriangleTest::Barycentric];
     let queries = robustness::queries(&shapes, &tests, args.query_points, args.seed);
+    let result = RobustnessResult::new(arguments(), env, shapes.clone(), rows, queries);
+    let (rows, totals, queries) = (&result.rows, &result.totals, &result.queries);
+    // The pictures before the verdict: a failing run is when they are wanted.
+    for (shape, engine, file) in crack_files {
+        let rays = edge_outcomes(shape, engine, args.seed);
+        let title = format!("{}: {}, edges and vertices", shape.name(), engine.name);
+        let img = crack_image(&rays, title).map_err(anyhow::Error::from)?;
+        file.commit(&png_bytes(&img))?;
+    }
     if args.json {
-        let json = serde_json::json!({
-            "environment": Environment::collect(),
-            "default_triangle_test": TriangleTest::default(),
-            "shapes": shapes,
-            "totals": totals,
-            "rows": rows,
-            "queries": queries,
-        });
         outln!(
             "{}",
-            serde_json::to_string_pretty(&json).map_err(anyhow::Error::from)?
+            serde_json::to_string_pretty(&result).map_err(anyhow::Error::from)?
         )?;
     } else {
-        let env = Environment::collect();
+        let env = &result.environment;
         outln!("{} · kernels {}", env.cpu_model, env.isa)?;
-        print_table(if args.all_rows { &rows } else { &totals })?;
+        print_table(if args.all_rows { rows } else { totals })?;
         outln!("")?;
         outln!(
             "{:<14} {:<12} {:>8} {:>13} {:>8} {:>16}",
@@ -145,7 +194,7 @@ pub fn run(args: RobustnessArgs) -> CliResult {
             "rays",
             "wrong crossings"
         )?;
-        for q in &queries {
+        for q in queries {
             outln!(
                 "{:<14} {:<12} {:>8} {:>13} {:>8} {:>16}",
                 q.shape.name(),

@@ -186,14 +186,23 @@ pub struct Disagreement {
 }
 
 /// p50, p99 and maximum of a sample.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Quantiles {
     /// Median.
+    #[serde(deserialize_with = "number_or_nan")]
     pub p50: f64,
     /// 99th percentile.
+    #[serde(deserialize_with = "number_or_nan")]
     pub p99: f64,
     /// Maximum.
+    #[serde(deserialize_with = "number_or_nan")]
     pub max: f64,
+}
+
+/// A number, or NaN where JSON holds `null`: what serde_json writes for NaN
+/// and the infinities, so that a result reads back what it wrote.
+fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 impl Quantiles {

@@ -2,15 +2,20 @@
 //! any [`Accel`](crate::accel::Accel) ([`batch`]), the CSV exchange format that
 //! lets any other engine take part ([`csv`]), the agreement statistics of
 //! two engines' hits, ray by ray classified ([`agreement`]), and the picture of
-//! where they disagree ([`diff_image`]).
+//! where they disagree ([`diff_image`]); the robustness oracle of rays with
+//! known answers ([`robustness`], against the double-precision
+//! [`reference_f64`]), its JSON result ([`robustness_result`]) and the picture
+//! of where a mesh leaks ([`crack_image`]).
 
 pub mod agreement;
 pub mod batch;
+pub mod crack_image;
 pub mod csv;
 pub mod diff_image;
 pub mod ray_sets;
 pub mod reference_f64;
 pub mod robustness;
+pub mod robustness_result;
 
 pub use agreement::{
     Agreement, AgreementOptions, Disagreement, DisagreementKind, RayClass, classify, classify_rays,

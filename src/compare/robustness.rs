@@ -6,7 +6,8 @@
 //! - *edges and vertices*: from inside each mesh through every shared vertex,
 //!   every edge's midpoint and a random point of every edge, and from outside
 //!   along the same lines inwards: each crosses the closed surface there, so
-//!   each must hit (a miss is a *leak*);
+//!   each must hit there (a miss, or a hit on a far wall after slipping
+//!   through, is a *leak*);
 //! - *grazing*: from just under every edge, nearly along it and tilted out by
 //!   10⁻² or 10⁻⁵: still inside, so they must hit;
 //! - *spawned*: secondary rays ([`Ray::spawn`]) leaving the surface where an
@@ -39,7 +40,7 @@ use crate::rng::Rng;
 use crate::scene::generate::closed_mesh::{ClosedMesh, ClosedShape};
 
 /// A group of rays with a known answer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Category {
     /// Through shared edges and vertices, from inside and outside.
@@ -55,6 +56,15 @@ pub enum Category {
 }
 
 impl Category {
+    /// Every category, in table order.
+    pub const ALL: [Category; 5] = [
+        Category::EdgesVertices,
+        Category::Grazing,
+        Category::Spawned,
+        Category::FarSmall,
+        Category::AgainstF64,
+    ];
+
     /// The name in tables.
     pub fn name(self) -> &'static str {
         match self {
@@ -124,8 +134,58 @@ impl Placement {
 enum Expect {
     /// Cross the closed surface: hit something.
     Hit,
-    /// Whatever the f64 reference says.
-    Reference,
+    /// Cross the closed surface at `at`: its first hit lies within `within`
+    /// of that point (a hit further off went through and hit a far wall).
+    CrossAt {
+        /// The point aimed at.
+        at: DVec3,
+        /// How far from it a hit may lie: half the way from the ray's
+        /// inside point to it, well short of any other wall on the line.
+        within: f64,
+    },
+    /// Whatever the f64 reference (its nearest hit, here) says.
+    Reference(Nearest),
+}
+
+impl Expect {
+    /// The point a ray was aimed at, if it was.
+    fn aimed_at(&self) -> Option<DVec3> {
+        match self {
+            Expect::CrossAt { at, .. } => Some(*at),
+            _ => None,
+        }
+    }
+}
+
+/// What a ray of the oracle did, against what it must.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Outcome {
+    /// What it must.
+    Right,
+    /// It crossed a closed surface without a hit there (or missed where the
+    /// reference clearly hits).
+    Leak,
+    /// It hit where the reference clearly misses.
+    FalseHit,
+}
+
+/// What `hit`, the nearest hit of `ray`, is against `expect`.
+fn outcome(expect: &Expect, ray: &Ray, hit: &Hit) -> Outcome {
+    let missed = hit.prim == NO_HIT;
+    match *expect {
+        Expect::Hit if missed => Outcome::Leak,
+        Expect::CrossAt { at, within } => {
+            let point = ray.origin.as_dvec3() + f64::from(hit.t) * ray.dir.as_dvec3();
+            if missed || point.distance(at) > within {
+                Outcome::Leak
+            } else {
+                Outcome::Right
+            }
+        }
+        Expect::Reference(want) if missed && want.surely_hit && !want.ambiguous => Outcome::Leak,
+        Expect::Reference(want) if !missed && want.prim == NO_HIT => Outcome::FalseHit,
+        _ => Outcome::Right,
+    }
 }
 
 /// A mesh and rays through it with their answers.
@@ -139,20 +199,20 @@ struct Case {
 }
 
 /// One engine's counts on one case: a row of the oracle's table.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Row {
     /// The category.
     pub category: Category,
     /// The mesh.
     pub shape: ClosedShape,
-    /// Where it sits.
-    pub placement: &'static str,
+    /// Where it sits ([`Placement::name`], or `all` in totals).
+    pub placement: String,
     /// The engine.
     pub engine: String,
     /// Rays traced.
     pub rays: usize,
-    /// Rays that crossed a closed surface without a hit (or missed where
-    /// the reference clearly hits).
+    /// Rays that crossed a closed surface without a hit there (or missed
+    /// where the reference clearly hits): [`Outcome::Leak`].
     pub leaks: usize,
     /// Hits where the reference clearly misses.
     pub false_hits: usize,
@@ -206,10 +266,9 @@ pub fn run(shapes: &[ClosedShape], engines: &[Engine], sizes: Sizes, seed: u64) 
             cases.push(edge_rays(&mesh, Category::FarSmall, placement, seed));
         }
         for case in &cases {
-            let reference = reference_hits(&case.triangles, &case.rays);
             for engine in engines {
                 let hits = (engine.trace)(&case.triangles, &case.rays);
-                rows.push(score(case, &engine.name, &hits, &reference));
+                rows.push(score(case, &engine.name, &hits));
             }
         }
         if spawns_outwards(shape) {
@@ -257,20 +316,63 @@ fn edge_rays(mesh: &ClosedMesh, category: Category, placement: Placement, seed: 
         targets.push(a + f64::from(rng.range(0.0, 1.0)) * (b - a));
     }
     let mut rays = Vec::with_capacity(2 * targets.len());
+    let mut expect = Vec::with_capacity(2 * targets.len());
     for target in targets {
         let inside = mesh.inside_towards(target);
         rays.push(ray_through(inside, target));
         // As far again outside, looking back in.
         rays.push(ray_through(2.0 * target - inside, inside));
+        // From outside, the next wall on the line lies beyond the inside
+        // point; from inside there is none, or the torus's far side further
+        // still: a hit within half the way to the inside point is at the target.
+        let cross = Expect::CrossAt {
+            at: target,
+            within: 0.5 * target.distance(inside),
+        };
+        expect.extend([cross, cross]);
     }
     Case {
         category,
         shape: mesh.shape,
         placement,
         triangles: triangles_of(mesh),
-        expect: vec![Expect::Hit; rays.len()],
         rays,
+        expect,
     }
+}
+
+/// One ray of the edges-and-vertices category, as an engine answered it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AimedRay {
+    /// The point of the surface it was aimed at: a vertex or a point of an edge.
+    pub at: Vec3,
+    /// From inside the mesh (else from outside, looking back in).
+    pub from_inside: bool,
+    /// [`Outcome::Right`] or [`Outcome::Leak`].
+    pub outcome: Outcome,
+}
+
+/// The edges-and-vertices rays of `shape` at the origin, traced by
+/// `engine`: the rays its row of that category and mesh counts, each with
+/// where it was aimed and what it did.
+pub fn edge_outcomes(shape: ClosedShape, engine: &Engine, seed: u64) -> Vec<AimedRay> {
+    let mesh = ClosedMesh::new(shape, 1.0, DVec3::ZERO);
+    let case = edge_rays(&mesh, Category::EdgesVertices, Placement::ORIGIN, seed);
+    let hits = (engine.trace)(&case.triangles, &case.rays);
+    case.rays
+        .iter()
+        .zip(&hits)
+        .zip(&case.expect)
+        .enumerate()
+        .filter_map(|(i, ((ray, hit), expect))| {
+            Some(AimedRay {
+                at: expect.aimed_at()?.as_vec3(),
+                // The rays alternate: from inside, then from outside.
+                from_inside: i % 2 == 0,
+                outcome: outcome(expect, ray, hit),
+            })
+        })
+        .collect()
 }
 
 /// The grazing rays of `mesh`: from 10⁻³ of its size under each edge's
@@ -323,21 +425,19 @@ fn random_rays(mesh: &ClosedMesh, n: usize, seed: u64) -> Case {
             }
         })
         .collect::<Vec<_>>();
+    let triangles = triangles_of(mesh);
+    let expect = rays
+        .par_iter()
+        .map(|ray| Expect::Reference(reference_f64::nearest(&triangles, ray)))
+        .collect();
     Case {
         category: Category::AgainstF64,
         shape: mesh.shape,
         placement: Placement::ORIGIN,
-        triangles: triangles_of(mesh),
-        expect: vec![Expect::Reference; rays.len()],
+        triangles,
         rays,
+        expect,
     }
-}
-
-/// The reference's nearest hit of every ray.
-fn reference_hits(triangles: &[[Vec3; 3]], rays: &[Ray]) -> Vec<Nearest> {
-    rays.par_iter()
-        .map(|ray| reference_f64::nearest(triangles, ray))
-        .collect()
 }
 
 /// The error of `hit`'s t in f32 ulps (see [`reference_f64::ulps_from`])
@@ -349,26 +449,23 @@ fn t_error(triangles: &[[Vec3; 3]], ray: &Ray, hit: &Hit) -> f64 {
 }
 
 /// An engine's row on a case.
-fn score(case: &Case, engine: &str, hits: &[Hit], reference: &[Nearest]) -> Row {
+fn score(case: &Case, engine: &str, hits: &[Hit]) -> Row {
     let (mut leaks, mut false_hits) = (0, 0);
     let mut ulps = Vec::new();
-    for (((hit, want), expect), ray) in hits.iter().zip(reference).zip(&case.expect).zip(&case.rays) {
-        let missed = hit.prim == NO_HIT;
-        match expect {
-            Expect::Hit => leaks += usize::from(missed),
-            Expect::Reference => {
-                leaks += usize::from(missed && want.surely_hit && !want.ambiguous);
-                false_hits += usize::from(!missed && want.prim == NO_HIT);
-            }
+    for ((hit, expect), ray) in hits.iter().zip(&case.expect).zip(&case.rays) {
+        match outcome(expect, ray, hit) {
+            Outcome::Leak => leaks += 1,
+            Outcome::FalseHit => false_hits += 1,
+            Outcome::Right => {}
         }
-        if !missed {
+        if hit.prim != NO_HIT {
             ulps.push(t_error(&case.triangles, ray, hit));
         }
     }
     Row {
         category: case.category,
         shape: case.shape,
-        placement: case.placement.name,
+        placement: case.placement.name.to_string(),
         engine: engine.to_string(),
         rays: case.rays.len(),
         leaks,
@@ -462,7 +559,7 @@ fn spawned(mesh: &ClosedMesh, placement: Placement, engine: &Engine, points: usi
     Row {
         category: Category::Spawned,
         shape: mesh.shape,
-        placement: placement.name,
+        placement: placement.name.to_string(),
         engine: engine.name.clone(),
         rays: primaries.len() + secondaries.len(),
         leaks,
@@ -492,7 +589,7 @@ pub fn totals(rows: &[Row]) -> Vec<Row> {
                 t.t_ulps.max = t.t_ulps.max.max(row.t_ulps.max);
             }
             None => totals.push(Row {
-                placement: "all",
+                placement: "all".into(),
                 ..row.clone()
             }),
         }
@@ -502,7 +599,7 @@ pub fn totals(rows: &[Row]) -> Vec<Row> {
 
 /// How the queries built on nearest hits ([`queries`]) fared on one mesh
 /// with one triangle test.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct QueryRow {
     /// The mesh, at the origin.
     pub shape: ClosedShape,
@@ -734,13 +831,7 @@ mod tests {
             assert!(leaky.leaks > leaky.rays / 2, "{leaky:?}");
         }
         assert_eq!(total(Category::AgainstF64, "leaky").leaks, 0);
-        for category in [
-            Category::EdgesVertices,
-            Category::Grazing,
-            Category::Spawned,
-            Category::FarSmall,
-            Category::AgainstF64,
-        ] {
+        for category in Category::ALL {
             let watertight = total(category, "watertight");
             assert_eq!(
                 (watertight.leaks, watertight.self_hits, watertight.false_hits),
@@ -749,6 +840,70 @@ mod tests {
             );
             assert!(watertight.rays > 0);
         }
+    }
+
+    /// An intersector that answers each ray with the farthest triangle it
+    /// crosses, edges included: from outside it goes through the surface it
+    /// was aimed at and stops at the far wall.
+    fn farthest() -> Engine<'static> {
+        Engine {
+            name: "farthest".into(),
+            trace: Box::new(|triangles: &[[Vec3; 3]], rays: &[Ray]| {
+                rays.iter()
+                    .map(|ray| {
+                        let mut hit = Hit::none(ray);
+                        for (i, [a, b, c]) in triangles.iter().enumerate() {
+                            if let TriangleAnswer::Hit(t) | TriangleAnswer::Edge(t) =
+                                intersect_triangle(*a, *b, *c, ray)
+                            {
+                                let t = t as f32;
+                                if t > ray.t_min && (hit.prim == NO_HIT || t > hit.t) {
+                                    hit.record(t, i as u32, 0.0, 0.0);
+                                }
+                            }
+                        }
+                        hit
+                    })
+                    .collect()
+            }),
+        }
+    }
+
+    /// A ray that slips through the edge it was aimed at and hits the far
+    /// wall leaks: every ray from outside, and none from inside (where the
+    /// target is the only wall).
+    #[test]
+    fn a_hit_on_the_far_wall_is_a_leak() {
+        let rays = edge_outcomes(ClosedShape::Tetrahedron, &farthest(), 5);
+        assert!(!rays.is_empty());
+        for ray in &rays {
+            let want = if ray.from_inside {
+                Outcome::Right
+            } else {
+                Outcome::Leak
+            };
+            assert_eq!(ray.outcome, want, "{ray:?}");
+        }
+    }
+
+    /// The per-ray outcomes that crack pictures draw are the rays the table
+    /// counts: as many leaks as the mesh's row.
+    #[test]
+    fn edge_outcomes_leak_as_often_as_the_row_says() {
+        let sizes = Sizes {
+            spawn_points: 10,
+            random_rays: 10,
+        };
+        let (shape, engine) = (ClosedShape::Tetrahedron, leaky());
+        let rows = run(&[shape], std::slice::from_ref(&engine), sizes, 7);
+        let row = rows
+            .iter()
+            .find(|r| r.category == Category::EdgesVertices)
+            .expect("an edges-and-vertices row");
+        let rays = edge_outcomes(shape, &engine, 7);
+        let leaks = rays.iter().filter(|r| r.outcome == Outcome::Leak).count();
+        assert_eq!((rays.len(), leaks), (row.rays, row.leaks));
+        assert!(leaks > 0, "the leaky intersector leaks");
     }
 
     /// All hits and inside/outside under the watertight test match the

@@ -40,7 +40,9 @@ const DEGENERATE: u32 = 3;
 const OTHER_AXES: [[usize; 2]; 3] = [[1, 2], [2, 0], [0, 1]];
 
 /// Which ray/triangle test a triangle's kernels run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum TriangleTest {
     /// The lecture's projected barycentric test (this file), with an edge

@@ -1,5 +1,7 @@
-//! HTML text: escaping, and images inlined as data URIs (the page must load
-//! nothing from the network or the disk).
+//! HTML text: escaping, a table of names and values, and images inlined as
+//! data URIs (the page must load nothing from the network or the disk).
+
+use std::fmt::Write as _;
 
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD;
@@ -17,6 +19,22 @@ pub fn escape(text: &str) -> String {
             _ => out.push(c),
         }
     }
+    out
+}
+
+/// A table of one name and value per row (an environment), escaped.
+pub fn pairs_table(rows: &[(&str, String)]) -> String {
+    let mut out = String::from("<table><tbody>");
+    for (name, value) in rows {
+        // Writing to a String cannot fail.
+        let _ = write!(
+            out,
+            "<tr><th>{}</th><td>{}</td></tr>",
+            escape(name),
+            escape(value)
+        );
+    }
+    out.push_str("</tbody></table>\n");
     out
 }
 
@@ -63,6 +81,15 @@ mod tests {
         assert_eq!(
             png_image(png, "<r>"),
             "<img src=\"data:image/png;base64,iVBORw0KGgpyZXN0\" alt=\"&lt;r&gt;\">"
+        );
+    }
+
+    #[test]
+    fn pairs_make_rows_of_a_table() {
+        assert_eq!(
+            pairs_table(&[("cpu", "a<b".into()), ("isa", "avx2".into())]),
+            "<table><tbody><tr><th>cpu</th><td>a&lt;b</td></tr>\
+             <tr><th>isa</th><td>avx2</td></tr></tbody></table>\n"
         );
     }
 

@@ -1,20 +1,22 @@
 //! `raypack report`: one self-contained HTML page from the JSON results of
-//! `raypack bench … --json` (a render's own JSON sidecar is
-//! [`crate::picture::render_report`]). Charts are drawn with plotters as SVG and inlined
-//! as data URIs, so the page loads nothing from anywhere.
+//! `raypack bench … --json` and `raypack robustness --json` (a render's own
+//! JSON sidecar is [`crate::picture::render_report`]). Charts are drawn with
+//! plotters as SVG and inlined as data URIs, so the page loads nothing from anywhere.
 //!
 //! [`page`] lays the page out; [`engines`] tables raypack against Embree; [`chart`] draws a figure group's medians as bars
 //! with their 95% intervals; [`lines`] draws figures over thread counts or
-//! scene sizes;
+//! scene sizes; [`robustness`] tables the robustness oracle's results;
 //! [`html`] escapes text and inlines images.
 
 use crate::bench::result::StoredResult;
+use crate::compare::robustness_result::RobustnessResult;
 
 pub mod chart;
 pub mod engines;
 pub mod html;
 pub mod lines;
 pub mod page;
+pub mod robustness;
 
 /// A result file to report.
 #[derive(Debug, Clone)]
@@ -42,6 +44,15 @@ impl Input {
             },
         }
     }
+}
+
+/// A robustness result file to report.
+#[derive(Debug, Clone)]
+pub struct RobustnessInput {
+    /// Its name on the page (the file name).
+    pub name: String,
+    /// What it holds.
+    pub result: RobustnessResult,
 }
 
 /// Why a page could not be made.

@@ -1,9 +1,9 @@
 //! The report page: raypack against Embree by ray kind ([`engines`]), then
-//! per result file, the command that made it, its environment, a chart per group of
+//! per bench result file, the command that made it, its environment, a chart per group of
 //! figures (one figure name and unit, one scene), thread scaling where more
 //! than one thread count was measured, growth over scene sizes where scenes
 //! of several sizes were, and the comparison with a baseline when the run
-//! made one.
+//! made one; then per robustness result file its tables ([`robustness`]).
 
 use std::fmt::Write as _;
 
@@ -11,9 +11,10 @@ use crate::bench::change::Comparison;
 use crate::bench::figure::Figure;
 use crate::report::chart::{Bar, interval_bars};
 use crate::report::engines;
-use crate::report::html::{escape, png_image, svg_image};
+use crate::report::html::{escape, pairs_table, png_image, svg_image};
 use crate::report::lines::{Line, XAxis, over};
-use crate::report::{Input, ReportError};
+use crate::report::robustness;
+use crate::report::{Input, ReportError, RobustnessInput};
 
 /// A picture shown with the figures: an annotated render, a heat map.
 #[derive(Clone, Debug)]
@@ -54,35 +55,54 @@ h1{font-size:1.6em}h2{font-size:1.3em;border-bottom:1px solid #ccc;margin-top:2e
 table{border-collapse:collapse;font-size:0.85em;margin:0.5em 0}\
 td,th{border:1px solid #ddd;padding:2px 8px;text-align:left}\
 td.num{text-align:right;font-variant-numeric:tabular-nums}\
-.slower,.lower{color:#b00}.faster,.higher{color:#070}img{display:block;margin:1em 0;max-width:100%}";
+.slower,.lower{color:#b00}.faster,.higher{color:#070}img{display:block;margin:1em 0;max-width:100%}\
+td.wrong{color:#b00;font-weight:bold;background:#fdd}summary{cursor:pointer;font-size:0.85em}";
 
-/// The page of `inputs` and `pictures`, made at `date`.
-pub fn page(inputs: &[Input], pictures: &[Picture], date: &str) -> Result<String, ReportError> {
-    if inputs.is_empty() {
-        return Err(ReportError::Empty);
-    }
+/// The page of bench results `inputs`, robustness results `robustness` and
+/// `pictures`, made at `date`.
+pub fn page(
+    inputs: &[Input],
+    robustness: &[RobustnessInput],
+    pictures: &[Picture],
+    date: &str,
+) -> Result<String, ReportError> {
+    let title = match (inputs.is_empty(), robustness.is_empty()) {
+        (true, true) => return Err(ReportError::Empty),
+        (false, true) => "raypack benchmark report",
+        (true, false) => "raypack robustness report",
+        (false, false) => "raypack benchmark and robustness report",
+    };
+    let names: Vec<String> = inputs
+        .iter()
+        .map(|i| escape(&i.name))
+        .chain(robustness.iter().map(|i| escape(&i.name)))
+        .collect();
     let mut out = String::new();
     // Writing to a String cannot fail.
     let _ = write!(
         out,
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
-         <title>raypack benchmark report</title><style>{STYLE}</style></head><body>\n\
-         <h1>raypack benchmark report</h1>\n<p>Made {} from {}. Each bar reaches the median of \
-         its samples; its whisker spans the median's 95% confidence interval (order statistics). \
-         A pale bar marked * is noisy: its interval reaches beyond ±5% of the median. Ratios \
-         come from samples paired round by round.</p>\n",
+         <title>{title}</title><style>{STYLE}</style></head><body>\n\
+         <h1>{title}</h1>\n<p>Made {} from {}.",
         escape(date),
-        inputs
-            .iter()
-            .map(|i| escape(&i.name))
-            .collect::<Vec<_>>()
-            .join(", ")
+        names.join(", ")
     );
+    if !inputs.is_empty() {
+        out.push_str(
+            " Each bar reaches the median of its samples; its whisker spans the median's 95% \
+             confidence interval (order statistics). A pale bar marked * is noisy: its interval \
+             reaches beyond ±5% of the median. Ratios come from samples paired round by round.",
+        );
+    }
+    out.push_str("</p>\n");
     if let Some(table) = engines::table(inputs) {
         out.push_str(&table);
     }
     for input in inputs {
         section(&mut out, input)?;
+    }
+    for input in robustness {
+        robustness::section(&mut out, input);
     }
     if !pictures.is_empty() {
         out.push_str("<section><h2>Pictures</h2>\n");
@@ -114,16 +134,7 @@ fn section(out: &mut String, input: &Input) -> Result<(), ReportError> {
         escape(&input.name),
         escape(&command)
     );
-    out.push_str("<table><tbody>");
-    for (name, value) in r.environment.rows() {
-        let _ = write!(
-            out,
-            "<tr><th>{}</th><td>{}</td></tr>",
-            escape(name),
-            escape(&value)
-        );
-    }
-    out.push_str("</tbody></table>\n");
+    out.push_str(&pairs_table(&r.environment.rows()));
     for group in groups(&r.figures) {
         let first = group[0];
         let scene = first.label("scene");
@@ -402,7 +413,7 @@ mod tests {
             name: "render <a>.png".into(),
             png: b"\x89PNG\r\n\x1a\n".to_vec(),
         };
-        let html = page(&[input(figures)], &[picture], "2026-01-01T00:00:00Z").unwrap();
+        let html = page(&[input(figures)], &[], &[picture], "2026-01-01T00:00:00Z").unwrap();
         assert!(html.starts_with("<!DOCTYPE html>"));
         assert!(html.contains("scene &lt;1&gt;.json"));
         // Two charts (the group, the scaling) and the picture, inlined; nothing fetched.
@@ -410,6 +421,28 @@ mod tests {
         assert_eq!(html.matches("<img src=\"data:image/png;base64,").count(), 1);
         assert!(html.contains("<figcaption>render &lt;a&gt;.png</figcaption>"));
         assert!(!html.contains("http"), "nothing to fetch");
-        assert!(matches!(page(&[], &[], ""), Err(ReportError::Empty)));
+        assert!(matches!(page(&[], &[], &[], ""), Err(ReportError::Empty)));
+    }
+
+    #[test]
+    fn a_page_of_robustness_results_alone_is_no_benchmark_report() {
+        use crate::compare::robustness_result::RobustnessResult;
+        let result = RobustnessResult::new(
+            Vec::new(),
+            crate::environment::Environment::collect(),
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+        );
+        let robustness = [RobustnessInput {
+            name: "oracle.json".into(),
+            result,
+        }];
+        let html = page(&[], &robustness, &[], "2026-01-01T00:00:00Z").unwrap();
+        assert!(html.contains("<title>raypack robustness report</title>"));
+        assert!(html.contains("<h2>Robustness oracle: oracle.json</h2>"));
+        assert!(!html.to_lowercase().contains("benchmark") && !html.contains("whisker"));
+        let both = page(&[input(Vec::new())], &robustness, &[], "").unwrap();
+        assert!(both.contains("<title>raypack benchmark and robustness report</title>"));
     }
 }

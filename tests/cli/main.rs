@@ -1,6 +1,6 @@
 //! The command line, one test crate: `render`, `stats`, `info`, `env`, `trace`,
-//! `report` and the `bench` subcommands (with their baselines), run as a user runs them (the built
-//! binary), bad input included.
+//! `robustness`, `report` and the `bench` subcommands (with their baselines),
+//! run as a user runs them (the built binary), bad input included.
 
 #[path = "../support/mod.rs"]
 mod support;
@@ -13,4 +13,5 @@ mod info;
 mod inlining;
 mod render;
 mod report;
+mod robustness;
 mod trace;

@@ -9,7 +9,7 @@ use crate::bench::change::{Comparison, DEFAULT_NOISE_THRESHOLD, Verdict, compare
 use crate::bench::figure::Figure;
 use crate::bench::result::{BenchResult, StoredResult};
 use crate::bench::timing_hooks::TimingHooks;
-use crate::cli::args::environment;
+use crate::cli::args::{arguments, environment};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::statistics::Summary;
@@ -81,10 +81,7 @@ impl<'a> Run<'a> {
     ) -> CliResult {
         let mut result = BenchResult {
             command: self.command.to_string(),
-            arguments: std::env::args_os()
-                .skip(1)
-                .map(|a| a.to_string_lossy().into_owned())
-                .collect(),
+            arguments: arguments(),
             environment: environment(embree_config)?,
             rows,
             figures,

@@ -11,7 +11,7 @@ use glam::{DVec3, Vec3};
 use crate::geometry::{Primitive, Triangle};
 
 /// The closed meshes of the oracle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ClosedShape {
     /// A subdivided icosahedron on the unit sphere (4 subdivisions: 5,120 triangles).
