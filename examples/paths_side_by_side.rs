@@ -97,7 +97,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
     // 2¹⁸ random rays, as `scripts/report.sh` measures them.
     let setup = TraversalSetup::new("scene", scene.primitives, &camera, None, 262_144, &[args.kind]);
     let set = setup
-        .set(args.kind)
+        .rays_of(args.kind)
         .ok_or_else(|| anyhow::anyhow!("no rays of kind {}", args.kind.name()))?;
     let threads = args.threads as usize;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;

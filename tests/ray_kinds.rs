@@ -50,7 +50,7 @@ fn any_hit_is_a_nearest_hit_within_the_ray() {
     for setup in setups() {
         let bvh = Bvh::new(&setup.prims);
         for kind in [RayKind::Shadow, RayKind::Ao] {
-            let set = setup.set(kind).unwrap();
+            let set = setup.rays_of(kind).unwrap();
             let occluded = single_answers(&bvh, set);
             let nearest: Vec<bool> = set.rays.iter().map(|r| bvh.intersect(r).is_hit()).collect();
             assert_eq!(occluded, nearest, "{} {kind:?}", setup.name);
