@@ -125,6 +125,27 @@ fn record_build() {
     println!("cargo:rustc-env=RAYPACK_BUILD_RUSTFLAGS={flags}");
     println!("cargo:rustc-env=RAYPACK_BUILD_COMMIT={commit}");
     println!("cargo:rustc-env=RAYPACK_BUILD_MODIFIED={modified}");
+    println!("cargo:rustc-env=RAYPACK_LOCKED_VERSIONS={}", locked_versions());
+}
+
+/// The peer engines' versions locked in `Cargo.lock`, `name=version,…`, for
+/// their captions (`engines::peer_version`).
+fn locked_versions() -> String {
+    const PEERS: [&str; 4] = ["embree4-sys", "obvhs", "bvh", "tinybvh-rs"];
+    let lock = std::fs::read_to_string("Cargo.lock").unwrap_or_default();
+    let mut found = Vec::new();
+    let mut name = None;
+    for line in lock.lines() {
+        if let Some(n) = line.strip_prefix("name = ") {
+            name = Some(n.trim_matches('"'));
+        } else if let (Some(n), Some(v)) = (name, line.strip_prefix("version = ")) {
+            if PEERS.contains(&n) {
+                found.push(format!("{n}={}", v.trim_matches('"')));
+            }
+            name = None;
+        }
+    }
+    found.join(",")
 }
 
 fn link_from(dir: &Path) {

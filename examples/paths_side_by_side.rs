@@ -20,12 +20,14 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Parser;
+use raypack::accel::Accel;
 use raypack::bench::rays::{KindRays, RayKind};
 use raypack::bench::traversal::{
-    Builder, EngineVariant, Structure, TraversalSetup, scene_bounds, trace_batch, trace_packets,
-    trace_packets16, trace_single,
+    Builder, EngineVariant, TraversalSetup, scene_bounds, trace_batch, trace_packets, trace_packets16,
+    trace_single,
 };
-use raypack::engine::{EmbreeIsa, Engine};
+use raypack::embree_settings::EmbreeIsa;
+use raypack::engines::{Engine, WithAccel};
 use raypack::render::batch::BATCH;
 use raypack::scene::generate::random::framing_camera;
 
@@ -59,36 +61,48 @@ struct Args {
 /// The three paths each engine is timed on.
 const PATHS: [&str; 3] = ["single", "packet8", "packet16"];
 
-/// Trace `set` through `structure` on path `path` (an index into [`PATHS`]).
-fn trace(structure: &Structure, set: &KindRays, path: usize) -> u64 {
-    match (structure, path) {
-        (Structure::Raypack(b), 0) => trace_single(b, set),
-        (Structure::Raypack(b), 1) => trace_packets(b, set),
-        (Structure::Raypack(b), _) => trace_packets16(b, set),
-        (Structure::Embree(e), 0) => trace_single(e, set),
-        (Structure::Embree(e), 1) => trace_packets(e, set),
-        (Structure::Embree(e), _) => trace_packets16(e, set),
+/// Trace a kind's rays on path `path` (an index into [`PATHS`]).
+struct Path<'r> {
+    set: &'r KindRays,
+    path: usize,
+}
+
+impl WithAccel<'_> for Path<'_> {
+    type Output = u64;
+
+    fn run<A: Accel>(self, accel: &A) -> u64 {
+        match self.path {
+            0 => trace_single(accel, self.set),
+            1 => trace_packets(accel, self.set),
+            _ => trace_packets16(accel, self.set),
+        }
     }
 }
 
 /// Nanoseconds a ray of `set` takes cold and warm (see the module doc), over `rounds` passes.
-fn cold_warm(structure: &Structure, set: &KindRays, rounds: u32) -> (f64, f64) {
-    let query = set.kind.query();
-    let (mut cold, mut warm) = (0.0, 0.0);
-    for _ in 0..rounds {
-        for rays in set.rays.chunks(BATCH) {
-            for seconds in [&mut cold, &mut warm] {
-                let start = Instant::now();
-                std::hint::black_box(match structure {
-                    Structure::Raypack(b) => trace_batch(b, rays, query),
-                    Structure::Embree(e) => trace_batch(e, rays, query),
-                });
-                *seconds += start.elapsed().as_secs_f64();
+struct ColdWarm<'r> {
+    set: &'r KindRays,
+    rounds: u32,
+}
+
+impl WithAccel<'_> for ColdWarm<'_> {
+    type Output = (f64, f64);
+
+    fn run<A: Accel>(self, accel: &A) -> (f64, f64) {
+        let query = self.set.kind.query();
+        let (mut cold, mut warm) = (0.0, 0.0);
+        for _ in 0..self.rounds {
+            for rays in self.set.rays.chunks(BATCH) {
+                for seconds in [&mut cold, &mut warm] {
+                    let start = Instant::now();
+                    std::hint::black_box(trace_batch(accel, rays, query));
+                    *seconds += start.elapsed().as_secs_f64();
+                }
             }
         }
+        let rays = f64::from(self.rounds) * self.set.rays.len() as f64;
+        (cold / rays * 1e9, warm / rays * 1e9)
     }
-    let rays = f64::from(rounds) * set.rays.len() as f64;
-    (cold / rays * 1e9, warm / rays * 1e9)
 }
 
 fn run(args: &Args) -> anyhow::Result<()> {
@@ -101,6 +115,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         .ok_or_else(|| anyhow::anyhow!("no rays of kind {}", args.kind.name()))?;
     let threads = args.threads as usize;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    Engine::prepare_threads(&[Engine::Raypack, Engine::Embree], &pool);
     let builder = Builder::new(
         &[Engine::Raypack, Engine::Embree],
         &[EmbreeIsa::Avx2, EmbreeIsa::Default],
@@ -131,7 +146,11 @@ fn run(args: &Args) -> anyhow::Result<()> {
     );
     if args.cold_warm {
         for (variant, structure) in variants.iter().zip(&structures) {
-            let (cold, warm) = pool.install(|| cold_warm(structure, set, args.rounds));
+            let job = ColdWarm {
+                set,
+                rounds: args.rounds,
+            };
+            let (cold, warm) = pool.install(|| structure.visit(job));
             println!(
                 "{:16} single rays: cold {cold:6.1} ns, warm {warm:6.1} ns a ray",
                 variant.name()
@@ -152,7 +171,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
         for i in order {
             let (s, p) = cases[i];
             let start = Instant::now();
-            std::hint::black_box(pool.install(|| trace(&structures[s], set, p)));
+            std::hint::black_box(pool.install(|| structures[s].visit(Path { set, path: p })));
             if round > 0 {
                 samples[i].push(set.rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6);
             }

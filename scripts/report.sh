@@ -6,16 +6,19 @@
 #   scripts/report.sh --measure  measure the results anew first (minutes), then regenerate
 #
 # The results are `raypack bench … --json` (each with the machine and build it
-# ran on). Measuring uses the Embree build when there is one (README: Embree 4)
-# so that raypack/Embree ratios are in the page; RAYPACK=path/to/raypack and
-# ENGINES=raypack,embree override the choice. The screenshot needs Debian's
+# ran on). Measuring uses the build with every engine (or the Embree build)
+# when there is one, so that the ratios between engines are in the page;
+# RAYPACK=path/to/raypack and ENGINES=raypack,embree override the choice. The screenshot needs Debian's
 # `chromium` (apt-get install chromium). Every output is written to a temporary
-# name and renamed when complete.
+# name and renamed when complete. `cargo build --release --all-features
+# --target-dir target/all` builds the binary with every engine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 if [ -z "${RAYPACK:-}" ]; then
-    if [ -x target/embree/release/raypack ]; then
+    if [ -x target/all/release/raypack ]; then
+        RAYPACK=target/all/release/raypack
+    elif [ -x target/embree/release/raypack ]; then
         RAYPACK=target/embree/release/raypack
     else
         cargo build --release --quiet
@@ -23,12 +26,14 @@ if [ -z "${RAYPACK:-}" ]; then
     fi
 fi
 if [ -z "${ENGINES:-}" ]; then
-    # The whole output first: grep -q would close the pipe on the first match.
-    if grep -q '^features .*embree' <<< "$("$RAYPACK" env)"; then
-        ENGINES=raypack,embree
-    else
-        ENGINES=raypack
-    fi
+    # Every engine the binary links (`raypack env` lists its features).
+    features="$("$RAYPACK" env | sed -n 's/^features *//p')"
+    ENGINES=raypack
+    for engine in embree obvhs; do
+        if grep -qw "$engine" <<< "$features"; then
+            ENGINES+=",$engine"
+        fi
+    done
 fi
 
 # into FILE COMMAND...: COMMAND's stdout into FILE, renamed into place when complete.

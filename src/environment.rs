@@ -98,11 +98,14 @@ impl Environment {
             rustc: env!("RAYPACK_BUILD_RUSTC").to_string(),
             profile: env!("RAYPACK_BUILD_PROFILE").to_string(),
             rustflags: env!("RAYPACK_BUILD_RUSTFLAGS").to_string(),
-            features: if cfg!(feature = "embree") {
-                vec!["embree".to_string()]
-            } else {
-                Vec::new()
-            },
+            features: [
+                ("embree", cfg!(feature = "embree")),
+                ("obvhs", cfg!(feature = "obvhs")),
+            ]
+            .into_iter()
+            .filter(|&(_, on)| on)
+            .map(|(name, _)| name.to_string())
+            .collect(),
             git_commit: env!("RAYPACK_BUILD_COMMIT").to_string(),
             git_modified: env!("RAYPACK_BUILD_MODIFIED") == "true",
             embree: None,
@@ -266,6 +269,15 @@ fn utc_date(seconds: u64) -> String {
         s / 60 % 60,
         s % 60
     )
+}
+
+/// The version of dependency `name` this build locked (from `Cargo.lock`,
+/// recorded by the build script), or `?`.
+pub fn peer_version(name: &str) -> &'static str {
+    env!("RAYPACK_LOCKED_VERSIONS")
+        .split(',')
+        .find_map(|entry| entry.strip_prefix(name)?.strip_prefix('='))
+        .unwrap_or("?")
 }
 
 #[cfg(test)]

@@ -18,7 +18,8 @@ pub mod cli;
 pub mod compare;
 #[cfg(feature = "embree")]
 pub mod embree;
-pub mod engine;
+pub mod embree_settings;
+pub mod engines;
 pub mod environment;
 pub mod geometry;
 pub mod huge_pages;

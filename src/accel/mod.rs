@@ -16,7 +16,7 @@ pub mod traversal_counter;
 
 pub use brute_force::BruteForce;
 pub use bvh::Bvh;
-pub use kind::{AccelKind, AnyAccel};
+pub use kind::AccelKind;
 pub use stats::TraversalStats;
 pub use traversal_counter::TraversalCounter;
 

@@ -20,6 +20,7 @@ use crate::bench::rays::KindRays;
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::{trace_packets, trace_packets16, trace_single};
 use crate::camera::Camera;
+use crate::engines::Engine;
 use crate::render::kernel::TraceKernel;
 use crate::render::tiles::{self, Tile};
 use crate::render::whitted::lanes;
@@ -205,7 +206,7 @@ pub fn measure<A: Accel>(
     hooks: &TimingHooks,
 ) -> Result<Vec<Timing>, String> {
     let rays = Rays::Primary(frame);
-    interleave(&units(accel, rays, variants, 0)?, runs, hooks, rays.count())
+    interleave(&units(accel, rays, variants, 0)?, &[], runs, hooks, rays.count())
 }
 
 /// Measure the rays of `set` per variant as [`measure`] does the primary rays
@@ -218,16 +219,18 @@ pub fn measure_set<A: Accel>(
     hooks: &TimingHooks,
 ) -> Result<Vec<Timing>, String> {
     let rays = Rays::OfKind(set);
-    interleave(&units(accel, rays, variants, 0)?, runs, hooks, rays.count())
+    interleave(&units(accel, rays, variants, 0)?, &[], runs, hooks, rays.count())
 }
 
 /// Time every unit (each trace `rays` rays) on a pool of its variant's
 /// threads, `runs` times interleaved unit by unit after a warm-up each, so
 /// that run `i` of every unit (of every engine among them) falls in round `i`;
-/// times pass through the bench timing hooks `hooks`. Fails if two units of
-/// one engine disagree on the number of hits.
+/// times pass through the bench timing hooks `hooks`. A unit's pool gets the
+/// thread setup of its engine, `engines[unit.engine]` (none past the end of
+/// `engines`). Fails if two units of one engine disagree on the number of hits.
 pub fn interleave(
     units: &[Unit<'_>],
+    engines: &[Engine],
     runs: usize,
     hooks: &TimingHooks,
     rays: u64,
@@ -235,12 +238,16 @@ pub fn interleave(
     let pools = units
         .iter()
         .map(|u| {
-            rayon::ThreadPoolBuilder::new()
+            let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(u.variant.threads)
                 .build()
-                .map_err(|e| format!("cannot start {} threads: {e}", u.variant.threads))
+                .map_err(|e| format!("cannot start {} threads: {e}", u.variant.threads))?;
+            if let Some(&engine) = engines.get(u.engine) {
+                Engine::prepare_threads(&[engine], &pool);
+            }
+            Ok(pool)
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect::<Result<Vec<_>, String>>()?;
     let hits: Vec<u64> = units
         .iter()
         .zip(&pools)

@@ -1,5 +1,5 @@
 //! What the subcommands share: the SCENE argument, image sizes, thread pools,
-//! cameras and Embree scenes. Subcommands import from here and from
+//! cameras and the run's environment. Subcommands import from here and from
 //! [`crate::cli`]'s error types only, never from each other.
 
 use std::path::Path;
@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use crate::camera::Camera;
 use crate::cli::error::CliError;
+use crate::engines::NotApplicable;
 use crate::geometry::triangle::TriangleTest;
 use crate::scene::generate::test_scenes;
 use crate::scene::{self, Scene};
@@ -128,6 +129,18 @@ fn image_fits(width: u32, height: u32, available: u64, source: &str) -> Result<(
     Ok(())
 }
 
+/// An engine's failure to make its device or build: the user's to fix (exit
+/// 2) where the engine cannot do what was asked ([`NotApplicable`]: its
+/// kinds of primitives, its packet widths) or is missing from this build, else
+/// a failure of the run.
+pub fn engine_error(e: anyhow::Error) -> CliError {
+    if e.is::<NotApplicable>() {
+        CliError::BadInput(e)
+    } else {
+        CliError::Failed(e)
+    }
+}
+
 /// raypack's arguments as given (without the program's name), for a
 /// result to say how to run it again.
 pub fn arguments() -> Vec<String> {
@@ -152,23 +165,6 @@ pub fn environment(embree_config: Option<&str>) -> Result<crate::environment::En
     #[cfg(not(feature = "embree"))]
     let _ = embree_config;
     Ok(env)
-}
-
-/// The Embree scene of `scene` on a device made with `config`.
-#[cfg(feature = "embree")]
-pub fn embree_scene(
-    scene: &Scene,
-    config: &str,
-    mode: crate::engine::EmbreeMode,
-) -> Result<crate::embree::EmbreeScene, CliError> {
-    use crate::embree::{Device, EmbreeScene};
-    use crate::engine::EmbreeMode;
-    let device = std::sync::Arc::new(Device::new(config).map_err(|e| CliError::BadInput(e.into()))?);
-    match mode {
-        EmbreeMode::Robust => EmbreeScene::robust(device, &scene.primitives),
-        EmbreeMode::Fast => EmbreeScene::new(device, &scene.primitives),
-    }
-    .map_err(|e| CliError::Failed(e.into()))
 }
 
 #[cfg(test)]

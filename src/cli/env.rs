@@ -14,7 +14,7 @@ pub struct Args {
     #[arg(long)]
     pub json: bool,
     /// Embree device configuration to report (with the `embree` feature).
-    #[arg(long, default_value = crate::engine::DEFAULT_EMBREE_CONFIG)]
+    #[arg(long, default_value = crate::embree_settings::DEFAULT_EMBREE_CONFIG)]
     pub embree_config: String,
 }
 

@@ -2,21 +2,22 @@
 //! (and optionally a JSON sidecar with the same numbers).
 
 use std::path::PathBuf;
+use std::time::Instant;
 
 use clap::Args as ClapArgs;
 
-use crate::accel::Accel;
+use crate::accel::{Accel, AccelKind};
 use crate::atomic_file::AtomicFile;
 use crate::camera::Camera;
-use crate::cli::args::{check_image_memory, load_scene, parse_size, scene_camera, thread_pool};
+use crate::cli::args::{check_image_memory, engine_error, load_scene, parse_size, scene_camera, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
+use crate::engines::{Engine, EngineOptions, WithAccel};
 use crate::picture::annotate::annotate_render;
 use crate::picture::heat_map::{HeatMapKind, NoPixelCosts};
 use crate::picture::output::png_bytes;
 use crate::picture::progress::Progress;
 use crate::picture::render_report::{RenderReport, RunInfo};
-use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
 use crate::render::{Block, Counting, KernelKind, Mode, Render, RenderSettings, Sampling, render_counted};
 use crate::scene::{Light, Scene};
 use glam::Vec3;
@@ -101,15 +102,14 @@ impl RenderRequest<'_> {
     }
 }
 
-impl WithAccel for RenderRequest<'_> {
-    type Output = (Render, f64);
+impl WithAccel<'_> for RenderRequest<'_> {
+    type Output = Render;
 
-    fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
-        let out = self.with_progress(|tick| {
+    fn run<A: Accel>(self, accel: &A) -> Self::Output {
+        self.with_progress(|tick| {
             let (scene, camera, settings) = (self.scene, self.camera, self.settings);
             render_counted(scene, accel, camera, settings, self.counting, self.pool, tick)
-        });
-        (out, setup_seconds)
+        })
     }
 }
 
@@ -128,13 +128,16 @@ pub fn run(args: Args) -> CliResult {
     }
     // A cost heat map needs per-pixel counts, which only raypack's structures give.
     let counting = match args.heatmap {
-        Some(HeatMapKind::Cost) if args.no_traversal_stats || args.engine == Engine::Embree => {
+        Some(HeatMapKind::Cost) if args.no_traversal_stats || !args.engine.capabilities().counts_work => {
             return Err(CliError::BadInput(NoPixelCosts.into()));
         }
         Some(HeatMapKind::Cost) => Counting::PerPixel,
         _ if args.no_traversal_stats => Counting::Off,
         _ => Counting::Totals,
     };
+    args.engine
+        .traces_lanes(args.kernel.lanes())
+        .map_err(|e| CliError::BadInput(e.into()))?;
     let image_file = AtomicFile::create(&args.output)?;
     let json_file = args.stats_json.as_deref().map(AtomicFile::create).transpose()?;
 
@@ -170,12 +173,17 @@ pub fn run(args: Args) -> CliResult {
         counting,
         pool: &pool,
     };
-    let (out, setup_seconds) =
-        with_engine(&scene, args.engine, args.accel, request).map_err(CliError::BadInput)?;
-    let accel = match args.engine {
-        Engine::Raypack => args.accel.name(),
-        Engine::Embree => "embree",
+    let options = EngineOptions {
+        accel: args.accel,
+        ..EngineOptions::default()
     };
+    let device_start = Instant::now();
+    let device = args.engine.device(&options).map_err(CliError::BadInput)?;
+    Engine::prepare_threads(&[args.engine], &pool);
+    let built = device.build(&scene.primitives).map_err(engine_error)?;
+    let setup_seconds = device_start.elapsed().as_secs_f64();
+    let accel = built.describe().structure;
+    let out = built.visit(request);
 
     let report = RenderReport::new(
         &scene,

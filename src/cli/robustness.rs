@@ -4,9 +4,9 @@
 //! grazing, spawned from the surface, far from the origin and tiny, and
 //! against a double-precision reference; leaks, false hits, self-hits and t
 //! error per category and engine. The engines: raypack's BVH with each
-//! triangle test, in single rays and 8- and 16-wide packets; with the
-//! `embree` feature, Embree with its default flags and with
-//! `RTC_SCENE_FLAG_ROBUST`. Then the all-hits and inside/outside queries
+//! triangle test, in single rays and 8- and 16-wide packets, then every other
+//! engine of the registry this build links, single rays (Embree with its
+//! default flags and with `RTC_SCENE_FLAG_ROBUST`). Then the all-hits and inside/outside queries
 //! under each triangle test. With `--crack-images`, a picture per mesh and
 //! engine of where its edge and vertex rays leaked
 //! ([`crate::compare::crack_image`]). Exits 1 if an engine of raypack's
@@ -17,15 +17,16 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use glam::Vec3;
 
-use crate::accel::Bvh;
 use crate::atomic_file::AtomicFile;
-use crate::cli::args::{arguments, environment};
+use crate::cli::args::{arguments, environment, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::compare::crack_image::crack_image;
-use crate::compare::robustness::{self, Engine, Row, Sizes, edge_outcomes};
+use crate::compare::robustness::{self, Engine as RobustnessEngine, Row, Sizes, edge_outcomes};
 use crate::compare::robustness_result::RobustnessResult;
-use crate::compare::{Kernel, trace_rays};
+use crate::compare::{Kernel, NearestHits};
+use crate::embree_settings::EmbreeMode;
+use crate::engines::{Engine, EngineOptions};
 use crate::environment::Environment;
 use crate::geometry::triangle::TriangleTest;
 use crate::geometry::{Primitive, Triangle};
@@ -63,48 +64,66 @@ pub struct RobustnessArgs {
     pub crack_images: Option<PathBuf>,
 }
 
-/// raypack's BVH over `triangles` under `test`, traced with `kernel`.
-fn raypack(test: TriangleTest, kernel: Kernel) -> Engine<'static> {
-    Engine {
-        name: format!("raypack {} {}", test.name(), kernel.name()),
+/// `engine` of the registry, its device made with `options`, over the
+/// triangles of each mesh under `test`, traced with `kernel`; `name` in the table.
+fn registered(
+    name: String,
+    engine: Engine,
+    options: &EngineOptions,
+    test: TriangleTest,
+    kernel: Kernel,
+) -> Result<RobustnessEngine<'static>, CliError> {
+    let device = engine.device(options).map_err(CliError::BadInput)?;
+    Ok(RobustnessEngine {
+        name,
         trace: Box::new(move |triangles: &[[Vec3; 3]], rays| {
             let prims: Vec<Primitive> = triangles
                 .iter()
                 .map(|&[a, b, c]| Primitive::Triangle(Triangle::new(a, b, c).with_test(test)))
                 .collect();
-            trace_rays(&Bvh::new(&prims), rays, kernel)
-        }),
-    }
-}
-
-/// Embree (with `robust` or its default flags) over `triangles`, single rays.
-#[cfg(feature = "embree")]
-fn embree(robust: bool) -> Result<Engine<'static>, CliError> {
-    use crate::embree::{Device, EmbreeScene};
-    use std::sync::Arc;
-    let device = Arc::new(
-        Device::new(crate::engine::DEFAULT_EMBREE_CONFIG).map_err(|e| CliError::BadInput(e.into()))?,
-    );
-    Ok(Engine {
-        name: format!("embree {}", if robust { "robust" } else { "default" }),
-        trace: Box::new(move |triangles: &[[Vec3; 3]], rays| {
-            let prims: Vec<Primitive> = triangles
-                .iter()
-                .map(|&[a, b, c]| Primitive::Triangle(Triangle::new(a, b, c)))
-                .collect();
-            let scene = if robust {
-                EmbreeScene::robust(device.clone(), &prims)
-            } else {
-                EmbreeScene::new(device.clone(), &prims)
-            }
-            .expect("Embree builds a scene of triangles");
-            trace_rays(&scene, rays, Kernel::Scalar)
+            let built = device
+                .build(&prims)
+                .expect("every engine builds a mesh of triangles");
+            built.visit(NearestHits { rays, kernel })
         }),
     })
 }
 
+/// The engines measured: raypack under each triangle test with each kernel,
+/// then every other engine this build has, single rays (Embree with its
+/// default flags and robust).
+fn engines() -> Result<Vec<RobustnessEngine<'static>>, CliError> {
+    let mut engines = Vec::new();
+    let defaults = EngineOptions::default();
+    for test in [TriangleTest::Watertight, TriangleTest::Barycentric] {
+        for kernel in [Kernel::Scalar, Kernel::Packet8, Kernel::Packet16] {
+            let name = format!("raypack {} {}", test.name(), kernel.name());
+            engines.push(registered(name, Engine::Raypack, &defaults, test, kernel)?);
+        }
+    }
+    let test = TriangleTest::default();
+    for &engine in Engine::ALL
+        .iter()
+        .filter(|e| **e != Engine::Raypack && e.linked())
+    {
+        let modes: &[(EmbreeMode, &str)] = match engine {
+            Engine::Embree => &[(EmbreeMode::Fast, " default"), (EmbreeMode::Robust, " robust")],
+            _ => &[(EmbreeMode::Fast, "")],
+        };
+        for &(embree_mode, suffix) in modes {
+            let options = EngineOptions {
+                embree_mode,
+                ..defaults.clone()
+            };
+            let name = format!("{engine}{suffix}");
+            engines.push(registered(name, engine, &options, test, Kernel::Scalar)?);
+        }
+    }
+    Ok(engines)
+}
+
 /// The crack picture of `shape` under `engine` in `dir`: no spaces in its name.
-fn crack_path(dir: &Path, shape: ClosedShape, engine: &Engine) -> PathBuf {
+fn crack_path(dir: &Path, shape: ClosedShape, engine: &RobustnessEngine) -> PathBuf {
     dir.join(format!("{}-{}.png", shape.name(), engine.name.replace(' ', "-")))
 }
 
@@ -113,8 +132,8 @@ fn crack_path(dir: &Path, shape: ClosedShape, engine: &Engine) -> PathBuf {
 fn claim_crack_images<'e, 'a>(
     dir: &Path,
     shapes: &[ClosedShape],
-    engines: &'e [Engine<'a>],
-) -> Result<Vec<(ClosedShape, &'e Engine<'a>, AtomicFile)>, CliError> {
+    engines: &'e [RobustnessEngine<'a>],
+) -> Result<Vec<(ClosedShape, &'e RobustnessEngine<'a>, AtomicFile)>, CliError> {
     std::fs::create_dir_all(dir)
         .map_err(|e| CliError::BadInput(anyhow::anyhow!("cannot make {}: {e}", dir.display())))?;
     let mut files = Vec::new();
@@ -132,24 +151,14 @@ fn claim_crack_images<'e, 'a>(
 
 /// Run `robustness`.
 pub fn run(args: RobustnessArgs) -> CliResult {
-    #[cfg(feature = "embree")]
-    rayon::broadcast(|_| crate::embree::flush_denormals());
+    let engines = engines()?;
+    let pool = thread_pool(None)?;
+    Engine::prepare_threads(Engine::ALL, &pool);
     let shapes = if args.shape.is_empty() {
         ClosedShape::ALL.to_vec()
     } else {
         args.shape.clone()
     };
-    let mut engines = Vec::new();
-    for test in [TriangleTest::Watertight, TriangleTest::Barycentric] {
-        for kernel in [Kernel::Scalar, Kernel::Packet8, Kernel::Packet16] {
-            engines.push(raypack(test, kernel));
-        }
-    }
-    #[cfg(feature = "embree")]
-    {
-        engines.push(embree(false)?);
-        engines.push(embree(true)?);
-    }
     let crack_files = match &args.crack_images {
         Some(dir) => claim_crack_images(dir, &shapes, &engines)?,
         None => Vec::new(),
@@ -157,20 +166,24 @@ pub fn run(args: RobustnessArgs) -> CliResult {
     // Every triangle test runs here: no one test is the run's.
     let env = Environment {
         triangle_test: String::new(),
-        ..environment(Some(crate::engine::DEFAULT_EMBREE_CONFIG))?
+        ..environment(Some(crate::embree_settings::DEFAULT_EMBREE_CONFIG))?
     };
     let sizes = Sizes {
         spawn_points: args.spawn_points,
         random_rays: args.random_rays,
     };
-    let rows = robustness::run(&shapes, &engines, sizes, args.seed);
     let tests = [TriangleTest::Watertight, TriangleTest::Barycentric];
-    let queries = robustness::queries(&shapes, &tests, args.query_points, args.seed);
+    let (rows, queries) = pool.install(|| {
+        (
+            robustness::run(&shapes, &engines, sizes, args.seed),
+            robustness::queries(&shapes, &tests, args.query_points, args.seed),
+        )
+    });
     let result = RobustnessResult::new(arguments(), env, shapes.clone(), rows, queries);
     let (rows, totals, queries) = (&result.rows, &result.totals, &result.queries);
     // The pictures before the verdict: a failing run is when they are wanted.
     for (shape, engine, file) in crack_files {
-        let rays = edge_outcomes(shape, engine, args.seed);
+        let rays = pool.install(|| edge_outcomes(shape, engine, args.seed));
         let title = format!("{}: {}, edges and vertices", shape.name(), engine.name);
         let img = crack_image(&rays, title).map_err(anyhow::Error::from)?;
         file.commit(&png_bytes(&img))?;

@@ -9,11 +9,11 @@ use std::time::Instant;
 
 use clap::Args as ClapArgs;
 
-use crate::accel::{Accel, TraversalStats};
+use crate::accel::{Accel, AccelKind, TraversalStats};
 use crate::cli::args::{load_scene, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::{out, outln};
-use crate::render::engine::{AccelKind, WithAccel, with_accel};
+use crate::engines::{Engine, EngineOptions, WithAccel, with_engine};
 use crate::render::spd::spd_counts_with_traversal;
 use crate::render::spd_published::{self, Published};
 use crate::render::{KernelKind, RayCounts};
@@ -52,13 +52,13 @@ struct Spd<'a> {
     pool: &'a rayon::ThreadPool,
 }
 
-impl WithAccel for Spd<'_> {
-    type Output = Result<(RayCounts, f64, f64, Option<TraversalStats>), crate::camera::CameraError>;
+impl WithAccel<'_> for Spd<'_> {
+    type Output = Result<(RayCounts, f64, Option<TraversalStats>), crate::camera::CameraError>;
 
-    fn run<A: Accel>(self, accel: &A, setup_seconds: f64) -> Self::Output {
+    fn run<A: Accel>(self, accel: &A) -> Self::Output {
         let start = Instant::now();
         let (counts, traversal) = spd_counts_with_traversal(self.scene, accel, self.kernel, self.pool)?;
-        Ok((counts, setup_seconds, start.elapsed().as_secs_f64(), traversal))
+        Ok((counts, start.elapsed().as_secs_f64(), traversal))
     }
 }
 
@@ -79,8 +79,14 @@ pub fn run(args: Args) -> CliResult {
         kernel: args.kernel,
         pool: &pool,
     };
-    let (counts, setup, trace, traversal) = with_accel(&scene, args.accel, job)
-        .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", args.scene.display())))?;
+    let options = EngineOptions {
+        accel: args.accel,
+        ..EngineOptions::default()
+    };
+    let (counted, setup) =
+        with_engine(Engine::Raypack, &options, &scene.primitives, job).map_err(CliError::Failed)?;
+    let (counts, trace, traversal) =
+        counted.map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", args.scene.display())))?;
     eprintln!(
         "spd: {} kernel, accel {}, {} threads: setup {:.1} ms, trace {:.1} ms",
         args.kernel.name(),

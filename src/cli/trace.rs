@@ -17,14 +17,15 @@ use rayon::prelude::*;
 use crate::accel::queries::{all_hits, is_inside};
 use crate::accel::{Accel, AccelKind};
 use crate::atomic_file::AtomicFile;
-use crate::cli::args::load_scene;
+use crate::cli::args::{engine_error, load_scene, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::compare::csv::{format_hits, read_hits, read_rays};
 use crate::compare::diff_image::class_name;
 use crate::compare::{Agreement, AgreementOptions, DisagreementKind, classify_rays};
 use crate::compare::{Kernel, trace_rays};
-use crate::engine::{DEFAULT_EMBREE_CONFIG, EmbreeMode, Engine};
+use crate::embree_settings::{DEFAULT_EMBREE_CONFIG, EmbreeMode};
+use crate::engines::{Engine, EngineOptions, WithAccel};
 use crate::geometry::Primitive;
 use crate::plural;
 use crate::ray::{Hit, Ray};
@@ -77,6 +78,34 @@ pub enum Query {
     Inside,
 }
 
+/// What `trace` asks of an engine's structure: the nearest hits of `rays`, or
+/// the answers of another query.
+struct TraceJob<'a> {
+    prims: &'a [Primitive],
+    rays: &'a [Ray],
+    query: Query,
+    kernel: Kernel,
+}
+
+/// What a [`TraceJob`] found.
+enum Traced {
+    /// Nearest hits, one per ray.
+    Hits(Vec<Hit>),
+    /// The answers of another query, as CSV text.
+    Answers(String),
+}
+
+impl WithAccel<'_> for TraceJob<'_> {
+    type Output = Traced;
+
+    fn run<A: Accel>(self, accel: &A) -> Traced {
+        match self.query {
+            Query::Nearest => Traced::Hits(trace_rays(accel, self.rays, self.kernel)),
+            query => Traced::Answers(answers(accel, self.prims, self.rays, query)),
+        }
+    }
+}
+
 /// The answers of `query` for every ray, as CSV text.
 fn answers<A: Accel>(accel: &A, prims: &[Primitive], rays: &[Ray], query: Query) -> String {
     let mut csv = String::new();
@@ -113,6 +142,9 @@ pub fn run(args: TraceArgs) -> CliResult {
             args.query
         )));
     }
+    args.engine
+        .traces_lanes(args.kernel.lanes())
+        .map_err(|e| CliError::BadInput(e.into()))?;
     let (scene, _) = load_scene(&args.scene)?;
     let rays = read_rays(&args.rays).map_err(|e| CliError::BadInput(e.into()))?;
     let theirs = match &args.diff {
@@ -134,29 +166,34 @@ pub fn run(args: TraceArgs) -> CliResult {
     // Claim the output before tracing, so an unwritable path fails at once.
     let out = AtomicFile::create(&args.out)?;
     let start = Instant::now();
-    if args.query != Query::Nearest {
-        let csv = match args.engine {
-            Engine::Raypack => answers(
-                &args.accel.build(&scene.primitives),
-                &scene.primitives,
-                &rays,
+    let options = EngineOptions {
+        accel: args.accel,
+        embree_config: args.embree_config.clone(),
+        embree_mode: args.embree_mode,
+    };
+    let device = args.engine.device(&options).map_err(CliError::BadInput)?;
+    let built = device.build(&scene.primitives).map_err(engine_error)?;
+    let pool = thread_pool(None)?;
+    Engine::prepare_threads(&[args.engine], &pool);
+    let job = TraceJob {
+        prims: &scene.primitives,
+        rays: &rays,
+        query: args.query,
+        kernel: args.kernel,
+    };
+    let hits = match pool.install(|| built.visit(job)) {
+        Traced::Hits(hits) => hits,
+        Traced::Answers(csv) => {
+            out.commit(csv.as_bytes())?;
+            eprintln!(
+                "answered {:?} for {} in {:.3} s (with build); wrote {}",
                 args.query,
-            ),
-            Engine::Embree => embree_answers(&scene, &rays, &args)?,
-        };
-        out.commit(csv.as_bytes())?;
-        eprintln!(
-            "answered {:?} for {} in {:.3} s (with build); wrote {}",
-            args.query,
-            plural::count(rays.len() as u64, "ray", "rays"),
-            start.elapsed().as_secs_f64(),
-            args.out.display()
-        );
-        return Ok(());
-    }
-    let hits = match args.engine {
-        Engine::Raypack => trace_rays(&args.accel.build(&scene.primitives), &rays, args.kernel),
-        Engine::Embree => embree_hits(&scene, &rays, &args)?,
+                plural::count(rays.len() as u64, "ray", "rays"),
+                start.elapsed().as_secs_f64(),
+                args.out.display()
+            );
+            return Ok(());
+        }
     };
     let seconds = start.elapsed().as_secs_f64();
     out.commit(format_hits(&hits).as_bytes())?;
@@ -205,26 +242,4 @@ fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &
         outln!("  {:<40} {n}", class_name(kind, a, b, options.max_ulps))?;
     }
     Ok(())
-}
-
-#[cfg(feature = "embree")]
-fn embree_hits(scene: &Scene, rays: &[Ray], args: &TraceArgs) -> Result<Vec<Hit>, CliError> {
-    let embree = crate::cli::args::embree_scene(scene, &args.embree_config, args.embree_mode)?;
-    Ok(trace_rays(&embree, rays, args.kernel))
-}
-
-#[cfg(feature = "embree")]
-fn embree_answers(scene: &Scene, rays: &[Ray], args: &TraceArgs) -> Result<String, CliError> {
-    let embree = crate::cli::args::embree_scene(scene, &args.embree_config, args.embree_mode)?;
-    Ok(answers(&embree, &scene.primitives, rays, args.query))
-}
-
-#[cfg(not(feature = "embree"))]
-fn embree_answers(_: &Scene, _: &[Ray], _: &TraceArgs) -> Result<String, CliError> {
-    Err(CliError::BadInput(anyhow::anyhow!(crate::engine::EMBREE_MISSING)))
-}
-
-#[cfg(not(feature = "embree"))]
-fn embree_hits(_: &Scene, _: &[Ray], _: &TraceArgs) -> Result<Vec<Hit>, CliError> {
-    Err(CliError::BadInput(anyhow::anyhow!(crate::engine::EMBREE_MISSING)))
 }

@@ -4,6 +4,7 @@
 use rayon::prelude::*;
 
 use crate::accel::Accel;
+use crate::engines::WithAccel;
 use crate::packet::RayPacket;
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
@@ -24,6 +25,15 @@ pub enum Kernel {
 }
 
 impl Kernel {
+    /// Rays traced together: 1 for single rays, else the packet width.
+    pub fn lanes(self) -> usize {
+        match self {
+            Kernel::Scalar => 1,
+            Kernel::Packet8 => 8,
+            Kernel::Packet16 => 16,
+        }
+    }
+
     /// The name on the command line and in results.
     pub fn name(self) -> &'static str {
         match self {
@@ -31,6 +41,22 @@ impl Kernel {
             Kernel::Packet8 => "packet8",
             Kernel::Packet16 => "packet16",
         }
+    }
+}
+
+/// [`trace_rays`] as a job for any engine of the registry ([`Built::visit`](crate::engines::Built::visit)).
+pub struct NearestHits<'r> {
+    /// The rays.
+    pub rays: &'r [Ray],
+    /// How they go through the engine.
+    pub kernel: Kernel,
+}
+
+impl WithAccel<'_> for NearestHits<'_> {
+    type Output = Vec<Hit>;
+
+    fn run<A: Accel>(self, accel: &A) -> Vec<Hit> {
+        trace_rays(accel, self.rays, self.kernel)
     }
 }
 

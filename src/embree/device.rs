@@ -13,7 +13,7 @@ use crate::embree::EmbreeError;
 /// the caller's threads whatever `threads` says; it only sizes Embree's BVH
 /// builder.) Against Embree's own choice (AVX-512 where the CPU has it) see
 /// `docs/measurements.md`, "Embree side by side".
-pub const DEFAULT_CONFIG: &str = crate::engine::DEFAULT_EMBREE_CONFIG;
+pub const DEFAULT_CONFIG: &str = crate::embree_settings::DEFAULT_EMBREE_CONFIG;
 
 /// Errors Embree reported through its error callback, oldest first.
 #[derive(Debug, Default)]

@@ -18,7 +18,6 @@
 use glam::{Mat4, Vec3};
 
 use crate::geometry::Primitive;
-use crate::geometry::ear_clip::ear_clip;
 
 /// A shape Embree has a native type for.
 #[derive(Clone, Debug, PartialEq)]
@@ -106,18 +105,12 @@ fn local(prim: &Primitive) -> Local {
         Primitive::Sphere(s) => Local::Native(NativeShape::Sphere(s.center, s.radius)),
         Primitive::Triangle(t) if t.is_degenerate() => Local::Empty,
         Primitive::Triangle(t) => Local::Native(NativeShape::Triangles(vec![t.vertices()])),
-        Primitive::Polygon(p) => {
-            // On raypack's plane, so both engines hit the same surface.
-            let (n, d) = (p.normal(), p.plane_offset());
-            let on_plane: Vec<Vec3> = p.vertices().iter().map(|&v| v - (n.dot(v) - d) * n).collect();
-            match ear_clip(&on_plane, n) {
-                Ok(tris) if tris.is_empty() => Local::Empty,
-                Ok(tris) => Local::Native(NativeShape::Triangles(
-                    tris.iter().map(|t| t.map(|i| on_plane[i as usize])).collect(),
-                )),
-                Err(_) => Local::User,
-            }
-        }
+        // On raypack's plane, so both engines hit the same surface.
+        Primitive::Polygon(p) => match p.triangles() {
+            Ok(tris) if tris.is_empty() => Local::Empty,
+            Ok(tris) => Local::Native(NativeShape::Triangles(tris)),
+            Err(_) => Local::User,
+        },
         // Planes, and shapes Embree has no type for (cones, …).
         _ => Local::User,
     }

@@ -12,6 +12,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
+use crate::geometry::ear_clip::{EarClipError, ear_clip};
 use crate::geometry::{GeometryError, Intersect, usable_denominator, usable_denominators};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -115,6 +116,19 @@ impl Polygon {
     /// The vertices in the order given.
     pub fn vertices(&self) -> &[Vec3] {
         &self.vertices
+    }
+
+    /// The polygon as triangles on its plane (each vertex moved onto it, so
+    /// the triangles cover the surface the crossing test hits), ear-clipped
+    /// (Eberly), for engines that take triangles only; none for a polygon of
+    /// zero area.
+    pub fn triangles(&self) -> Result<Vec<[Vec3; 3]>, EarClipError> {
+        let (n, d) = (self.normal, self.d);
+        let on_plane: Vec<Vec3> = self.vertices.iter().map(|&v| v - (n.dot(v) - d) * n).collect();
+        Ok(ear_clip(&on_plane, n)?
+            .iter()
+            .map(|t| t.map(|i| on_plane[i as usize]))
+            .collect())
     }
 
     /// The polygon's plane `⟨normal, p⟩ = d` (fixed by the first three vertices).

@@ -8,8 +8,8 @@
 use std::collections::BTreeMap;
 
 use crate::accel::TraversalStats;
+use crate::engines::Engine;
 use crate::picture::heat_map::HeatMapKind;
-use crate::render::engine::Engine;
 use crate::render::{Block, KernelKind, Mode, RayCounts, Render};
 use crate::scene::Scene;
 use crate::simd::Isa;
@@ -272,8 +272,10 @@ impl RenderReport {
                     t.counts.caption()
                 )
             }
-            (None, Engine::Embree) => "traversal stats: not available from Embree".to_string(),
-            (None, Engine::Raypack) => "traversal stats: not counted (--no-traversal-stats)".to_string(),
+            (None, engine) if !engine.capabilities().counts_work => {
+                format!("traversal stats: not available from {engine}")
+            }
+            (None, _) => "traversal stats: not counted (--no-traversal-stats)".to_string(),
         }
     }
 

@@ -16,7 +16,6 @@
 
 pub mod batch;
 pub mod counting;
-pub mod engine;
 pub mod frame;
 pub mod grid;
 pub mod kernel;

@@ -43,6 +43,15 @@ pub enum KernelKind {
 }
 
 impl KernelKind {
+    /// Rays traced together: 1 for single rays, else the packet width.
+    pub fn lanes(self) -> usize {
+        match self {
+            KernelKind::Scalar => 1,
+            KernelKind::Packet8 => 8,
+            KernelKind::Packet16 => 16,
+        }
+    }
+
     /// Name in reports.
     pub fn name(self) -> &'static str {
         match self {

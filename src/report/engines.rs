@@ -195,6 +195,127 @@ pub fn table(inputs: &[Input]) -> Option<String> {
     Some(out)
 }
 
+/// An engine's family: its label without a setting (`embree(avx2)` → `embree`).
+fn family(engine: &str) -> &str {
+    engine.split('(').next().unwrap_or(engine)
+}
+
+/// The table of every engine side by side, from the traversal results that
+/// measured three engine families or more (None where none did): per result file, scene, thread count
+/// and ray kind (and build), each family's best median over its paths and
+/// settings, and its ratio to the best of the others (above 1× for
+/// throughput, below 1× for builds, is ahead of every peer).
+pub fn every_engine_table(inputs: &[Input]) -> Option<String> {
+    let kinds = kinds(inputs);
+    // The engine families of one result file, in order of appearance.
+    let families_of = |input: &'_ Input| -> Vec<String> {
+        let mut families: Vec<String> = Vec::new();
+        for f in input.result.figures.iter().filter(|f| f.name == "throughput") {
+            let engine = family(f.label("engine"));
+            if !families.iter().any(|e| e == engine) {
+                families.push(engine.to_string());
+            }
+        }
+        families
+    };
+    // Two families are the table of raypack against Embree already.
+    let traversal: Vec<&Input> = inputs
+        .iter()
+        .filter(|i| i.result.command.starts_with("traversal") && families_of(i).len() >= 3)
+        .collect();
+    let mut families: Vec<String> = Vec::new();
+    for engine in traversal.iter().flat_map(|i| families_of(i)) {
+        if !families.contains(&engine) {
+            families.push(engine);
+        }
+    }
+    if families.is_empty() {
+        return None;
+    }
+    let mut out = String::from(
+        "<section><h2>Every engine, by ray kind</h2>\n<p>Per scene, thread count and ray kind: each \
+         engine's best median (over its paths and settings; Mrays/s, build in ms) on the same rays \
+         in one run, and its ratio to the best of the others; n/a where an engine does not trace \
+         the scene.</p>\n<table><thead><tr><th>results</th><th>scene</th><th>threads</th><th>rays</th>",
+    );
+    for engine in &families {
+        let _ = write!(out, "<th>{}</th>", escape(engine));
+    }
+    out.push_str("</tr></thead><tbody>\n");
+    for input in traversal {
+        let figures = &input.result.figures;
+        let mut keys: Vec<(&str, &str)> = Vec::new();
+        for f in figures.iter().filter(|f| f.name == "throughput") {
+            let key = (f.label("scene"), f.label("threads"));
+            if !keys.contains(&key) {
+                keys.push(key);
+            }
+        }
+        for (scene, threads) in keys {
+            let here = |f: &&Figure| f.label("scene") == scene && f.label("threads") == threads;
+            let columns = kinds
+                .iter()
+                .map(|&k| (k, "throughput", true))
+                .chain([("build", "build", false)]);
+            for (kind, name, higher_is_better) in columns {
+                let of_kind = |f: &&Figure| f.name == name && (name == "build" || f.label("rays") == kind);
+                let best_of = |engine: &str| {
+                    figures
+                        .iter()
+                        .filter(here)
+                        .filter(of_kind)
+                        .filter(|f| family(f.label("engine")) == engine)
+                        .map(|f| f.summary.median)
+                        .reduce(|a, b| if (a < b) == higher_is_better { b } else { a })
+                };
+                let medians: Vec<Option<f64>> = families.iter().map(|e| best_of(e)).collect();
+                if medians.iter().flatten().count() < 2 {
+                    continue;
+                }
+                let _ = write!(
+                    out,
+                    "<tr><td>{}</td><td>{}</td><td class=\"num\">{}</td><td>{}</td>",
+                    escape(&input.name),
+                    escape(scene),
+                    escape(threads),
+                    escape(kind)
+                );
+                for (e, median) in medians.iter().enumerate() {
+                    let Some(m) = median else {
+                        out.push_str("<td>n/a</td>");
+                        continue;
+                    };
+                    let best_other = medians
+                        .iter()
+                        .enumerate()
+                        .filter(|&(o, _)| o != e)
+                        .filter_map(|(_, v)| *v)
+                        .reduce(|a, b| if (a < b) == higher_is_better { b } else { a });
+                    let Some(other) = best_other else {
+                        let _ = write!(out, "<td class=\"num\">{}</td>", significant(*m));
+                        continue;
+                    };
+                    let cell = Cell {
+                        raypack: *m,
+                        rival: other,
+                        higher_is_better,
+                    };
+                    let _ = write!(
+                        out,
+                        "<td class=\"num {}\">{} ({:.2}×)</td>",
+                        if cell.ahead() { "faster" } else { "slower" },
+                        significant(*m),
+                        cell.ratio()
+                    );
+                }
+                out.push_str("</tr>\n");
+            }
+        }
+    }
+    out.push_str("</tbody></table></section>\n");
+    Some(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -273,5 +394,37 @@ mod tests {
         ];
         assert!(table(&[input("scene scenes/spd_balls.nff", both.clone())]).is_none());
         assert!(table(&[input("traversal x", both)]).is_some());
+    }
+
+    /// One column per engine family, each cell its best against the best of the
+    /// others; an engine that did not trace a kind is n/a.
+    #[test]
+    fn every_engine_against_the_best_of_the_others() {
+        let figures = vec![
+            throughput("raypack", "single", "ao", 6.0),
+            throughput("raypack", "packet8", "ao", 5.0),
+            throughput("embree(avx2)", "single", "ao", 4.0),
+            throughput("embree(default)", "single", "ao", 5.0),
+            throughput("obvhs", "single", "ao", 2.0),
+            throughput("raypack", "single", "primary", 9.0),
+            throughput("embree(avx2)", "packet8", "primary", 12.0),
+        ];
+        let html = every_engine_table(&[input("traversal assets/dragon.ply", figures)]).expect("a table");
+        assert!(
+            html.contains("<th>raypack</th><th>embree</th><th>obvhs</th>"),
+            "{html}"
+        );
+        assert!(html.contains("\"num faster\">6.00 (1.20×)"), "{html}");
+        assert!(html.contains("\"num slower\">5.00 (0.83×)"), "{html}");
+        assert!(html.contains("\"num slower\">2.00 (0.33×)"), "{html}");
+        assert!(
+            html.contains("<td>n/a</td>"),
+            "obvhs traced no primary rays: {html}"
+        );
+        let two = vec![
+            throughput("raypack", "single", "ao", 6.0),
+            throughput("embree(avx2)", "single", "ao", 4.0),
+        ];
+        assert!(every_engine_table(&[input("traversal x", two)]).is_none());
     }
 }

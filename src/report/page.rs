@@ -98,6 +98,9 @@ pub fn page(
     if let Some(table) = engines::table(inputs) {
         out.push_str(&table);
     }
+    if let Some(table) = engines::every_engine_table(inputs) {
+        out.push_str(&table);
+    }
     for input in inputs {
         section(&mut out, input)?;
     }

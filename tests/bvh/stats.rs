@@ -3,8 +3,10 @@
 
 use crate::support;
 use clap::ValueEnum;
-use raypack::accel::{Accel, AccelKind, AnyAccel, BruteForce, Bvh, TraversalCounter};
+use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalCounter, TraversalStats};
+use raypack::engines::{Engine, EngineOptions, WithAccel};
 use raypack::packet::RayPacket8;
+use raypack::ray::Ray;
 use raypack::scene::generate::random;
 use raypack::simd::SimdFloat;
 
@@ -101,7 +103,7 @@ fn coherent_packets_fill_more_lanes_than_incoherent_ones() {
 }
 
 #[test]
-fn accel_kind_parses_builds_and_forwards() {
+fn accel_kind_parses_and_raypack_builds_either_structure() {
     assert_eq!(AccelKind::default(), AccelKind::Bvh);
     assert_eq!(AccelKind::from_str("none", false), Ok(AccelKind::None));
     assert_eq!(AccelKind::from_str("bvh", false), Ok(AccelKind::Bvh));
@@ -109,16 +111,39 @@ fn accel_kind_parses_builds_and_forwards() {
     assert_eq!(AccelKind::Bvh.to_string(), "bvh");
     let prims = random::random_spheres(300, 25);
     let rays = support::bvh::random_rays(support::bvh::scene_bounds(&prims), 2000, 26);
-    let none = AccelKind::None.build(&prims);
-    let bvh = AccelKind::Bvh.build(&prims);
-    assert!(matches!(none, AnyAccel::None(_)) && none.kind() == AccelKind::None);
-    assert!(matches!(bvh, AnyAccel::Bvh(_)) && bvh.kind() == AccelKind::Bvh);
-    let mut stats = [TraversalCounter::totals(), TraversalCounter::totals()];
-    for ray in &rays {
-        let a = none.intersect_counted(ray, &mut stats[0]);
-        let b = bvh.intersect_counted(ray, &mut stats[1]);
-        assert_eq!(support::bvh::key(&a), support::bvh::key(&b));
-        assert_eq!(none.occluded(ray), bvh.occluded(ray));
+    // The registry's raypack engine builds the kind asked for, and each traces as its own type.
+    let traced = [AccelKind::None, AccelKind::Bvh].map(|accel| {
+        let options = EngineOptions {
+            accel,
+            ..EngineOptions::default()
+        };
+        let built = Engine::Raypack.device(&options).unwrap().build(&prims).unwrap();
+        assert_eq!(built.describe().structure, accel.name());
+        assert_eq!(built.sah_cost().is_some(), accel == AccelKind::Bvh);
+        built.visit(CountedHits(&rays))
+    });
+    let [(none_hits, none_stats), (bvh_hits, bvh_stats)] = traced;
+    assert_eq!(none_hits, bvh_hits);
+    assert!(none_hits.iter().any(|&(_, occluded)| occluded), "some rays hit");
+    assert!(bvh_stats.prim_tests < none_stats.prim_tests / 10);
+}
+
+/// Each ray's nearest hit (as [`support::bvh::key`]) and occlusion, with the traversal's counts.
+struct CountedHits<'r>(&'r [Ray]);
+
+impl WithAccel<'_> for CountedHits<'_> {
+    type Output = (Vec<((u32, u32, u32, u32), bool)>, TraversalStats);
+
+    fn run<A: Accel>(self, accel: &A) -> Self::Output {
+        let mut stats = TraversalCounter::totals();
+        let hits = self
+            .0
+            .iter()
+            .map(|ray| {
+                let hit = accel.intersect_counted(ray, &mut stats);
+                (support::bvh::key(&hit), accel.occluded(ray))
+            })
+            .collect();
+        (hits, *stats.total())
     }
-    assert!(stats[1].total().prim_tests < stats[0].total().prim_tests / 10);
 }

@@ -9,6 +9,7 @@ mod bench_baseline;
 mod bench_scene;
 mod bench_traversal;
 mod closed_stdout;
+mod engines;
 mod info;
 mod inlining;
 mod render;

@@ -40,7 +40,8 @@ fn check_reports_agreement_and_exits_by_the_bars() {
         assert!(set["hit_agreement"].as_f64().unwrap() >= 0.9999);
         assert!(set["agreement"]["t_error"]["p99"].as_f64().unwrap() <= 1e-5);
     }
-    assert_eq!(report["embree"]["translation"]["user"], 3, "the three planes");
+    assert_eq!(report["engines"], serde_json::json!(["raypack", "embree"]));
+    assert_eq!(report["engine"]["translation"]["user"], 3, "the three planes");
 
     // An impossible bar: exit 1 and say which set failed.
     let output = raypack()

@@ -5,10 +5,10 @@ use crate::support;
 use raypack::accel::BruteForce;
 use raypack::bench::scene::{PrimaryFrame, Variant, measure};
 use raypack::bench::timing_hooks::TimingHooks;
+use raypack::engines::Engine;
 use raypack::picture::annotate::annotate_render;
 use raypack::picture::heat_map::HeatMapKind;
 use raypack::picture::render_report::{RenderReport, RunInfo};
-use raypack::render::engine::Engine;
 use raypack::render::{Block, Counting, KernelKind, Mode, RenderSettings, Sampling, render_counted};
 
 #[test]

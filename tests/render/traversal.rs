@@ -7,7 +7,7 @@ use crate::support;
 use crate::support::cli::{raypack, scratch, stderr};
 
 use glam::Vec3;
-use raypack::accel::{Accel, AccelKind, BruteForce, Bvh, TraversalCounter, TraversalStats};
+use raypack::accel::{Accel, BruteForce, Bvh, TraversalCounter, TraversalStats};
 use raypack::camera::Camera;
 use raypack::geometry::{Primitive, Sphere};
 use raypack::packet::{RayPacket8, RayPacket16};
@@ -192,40 +192,45 @@ fn one_sphere() -> Scene {
 fn pixels_on_the_sphere_cost_more_than_the_background() {
     let scene = one_sphere();
     let camera = scene.camera.unwrap().camera().unwrap();
-    for accel in [AccelKind::None, AccelKind::Bvh].map(|k| k.build(&scene.primitives)) {
-        for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
-            let r = counted(
-                &scene,
-                &accel,
-                &camera,
-                &settings(Mode::Whitted, kernel, Block::B4x4),
-            );
-            let cost = r.traversal.as_ref().unwrap().pixel_cost.clone().unwrap();
-            let on = |k: usize| r.frame.prim[k] != u32::MAX;
-            let hits = (0..cost.len()).filter(|&k| on(k)).count();
-            assert!(hits > 100 && hits < cost.len() - 100, "{hits}");
-            let mean = |want: bool| {
-                let c: Vec<u64> = (0..cost.len())
-                    .filter(|&k| on(k) == want)
-                    .map(|k| cost[k])
-                    .collect();
-                c.iter().sum::<u64>() as f64 / c.len() as f64
-            };
-            assert!(
-                mean(true) > mean(false),
-                "{kernel:?}: {} vs {}",
-                mean(true),
-                mean(false)
-            );
-            let costliest = (0..cost.len()).max_by_key(|&k| cost[k]).unwrap();
-            assert!(on(costliest), "{kernel:?}: the costliest pixel is background");
+    sphere_costs_more(&scene, &camera, &BruteForce::new(&scene.primitives));
+    sphere_costs_more(&scene, &camera, &Bvh::new(&scene.primitives));
+}
 
-            // The heat map shows the same values, brightest on the sphere.
-            let hm = HeatMap::pixel_costs(camera.width, camera.height, &cost);
-            assert_eq!(hm.max(), cost[costliest] as f64);
-            let (x, y) = (costliest as u32 % camera.width, costliest as u32 / camera.width);
-            assert_eq!(hm.value(x, y), hm.max());
-        }
+/// On `accel`, with either kernel: pixels on the sphere of [`one_sphere`]
+/// cost more than the background, and the heat map shows those costs.
+fn sphere_costs_more(scene: &Scene, camera: &Camera, accel: &impl Accel) {
+    for kernel in [KernelKind::Scalar, KernelKind::Packet8] {
+        let r = counted(
+            scene,
+            accel,
+            camera,
+            &settings(Mode::Whitted, kernel, Block::B4x4),
+        );
+        let cost = r.traversal.as_ref().unwrap().pixel_cost.clone().unwrap();
+        let on = |k: usize| r.frame.prim[k] != u32::MAX;
+        let hits = (0..cost.len()).filter(|&k| on(k)).count();
+        assert!(hits > 100 && hits < cost.len() - 100, "{hits}");
+        let mean = |want: bool| {
+            let c: Vec<u64> = (0..cost.len())
+                .filter(|&k| on(k) == want)
+                .map(|k| cost[k])
+                .collect();
+            c.iter().sum::<u64>() as f64 / c.len() as f64
+        };
+        assert!(
+            mean(true) > mean(false),
+            "{kernel:?}: {} vs {}",
+            mean(true),
+            mean(false)
+        );
+        let costliest = (0..cost.len()).max_by_key(|&k| cost[k]).unwrap();
+        assert!(on(costliest), "{kernel:?}: the costliest pixel is background");
+
+        // The heat map shows the same values, brightest on the sphere.
+        let hm = HeatMap::pixel_costs(camera.width, camera.height, &cost);
+        assert_eq!(hm.max(), cost[costliest] as f64);
+        let (x, y) = (costliest as u32 % camera.width, costliest as u32 / camera.width);
+        assert_eq!(hm.value(x, y), hm.max());
     }
 }
 
@@ -358,7 +363,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
     let s = settings(Mode::Cast, KernelKind::Packet8, Block::B4x4);
     let plain = render(&scene, &accel, &camera, &s, &pool(), &|| {});
     let info = raypack::picture::render_report::RunInfo {
-        engine: raypack::render::engine::Engine::Raypack,
+        engine: raypack::engines::Engine::Raypack,
         kernel: s.kernel,
         block: s.block,
         mode: s.mode,

@@ -5,11 +5,12 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use crate::bench::timing_hooks::TimingHooks;
-use crate::bench::traversal::engines::{Builder, EngineVariant, Structure, engine_variants, pool};
+use crate::bench::traversal::engines::{Builder, EngineVariant, TraceKind, engine_variants, pool};
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
 use crate::bench::traversal::rows::{TraversalRow, rows};
 use crate::bench::traversal::setup::TraversalSetup;
-use crate::engine::{EmbreeIsa, Engine};
+use crate::embree_settings::EmbreeIsa;
+use crate::engines::{Built, Engine};
 
 /// Timed builds of every structure per thread count, after an untimed round.
 const BUILD_ROUNDS: usize = 3;
@@ -53,11 +54,19 @@ pub fn measure(
         .iter()
         .map(|&t| pool(t, &variants))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    // Every engine on every scene, scene by scene.
+    // Every engine on every scene it takes, scene by scene (the others said why).
     let pairs: Vec<(&TraversalSetup, EngineVariant)> = setups
         .iter()
         .flat_map(|setup| variants.iter().map(move |&v| (setup, v)))
+        .filter(|(setup, v)| match v.engine.takes(&setup.prims) {
+            Ok(()) => true,
+            Err(na) => {
+                eprintln!("note: {na}: no {} rows for {}", v.name(), setup.name);
+                false
+            }
+        })
         .collect();
+    anyhow::ensure!(!pairs.is_empty(), "no engine takes the scenes");
     // timings[t][c]: thread count t, scene and engine c.
     let mut timings: Vec<Vec<Timings>> = thread_counts
         .iter()
@@ -93,15 +102,15 @@ fn distinct_thread_counts(threads: &[usize]) -> anyhow::Result<Vec<usize>> {
 /// per thread count and round. Returns the structures of the very last
 /// builds, kept for tracing; every other one is dropped before the next
 /// builder exists (it holds its device).
-fn build_rounds(
-    pairs: &[(&TraversalSetup, EngineVariant)],
+fn build_rounds<'a>(
+    pairs: &[(&'a TraversalSetup, EngineVariant)],
     engines: &[Engine],
     embree_isas: &[EmbreeIsa],
     thread_counts: &[usize],
     pools: &[rayon::ThreadPool],
     timings: &mut [Vec<Timings>],
-) -> anyhow::Result<Vec<Option<Structure>>> {
-    let mut structures: Vec<Option<Structure>> = pairs.iter().map(|_| None).collect();
+) -> anyhow::Result<Vec<Option<Built<'a>>>> {
+    let mut structures: Vec<Option<Built<'a>>> = pairs.iter().map(|_| None).collect();
     for round in 0..=BUILD_ROUNDS {
         let order = round_order(round, thread_counts.len());
         for (step, &t) in order.iter().enumerate() {
@@ -118,12 +127,12 @@ fn build_rounds(
 /// `builder` on the current pool, in `round`'s order; past the untimed round
 /// 0 each build's time goes into `timings`. The structures go into `kept`
 /// when given, else are dropped.
-fn build_each(
+fn build_each<'a>(
     builder: &Builder,
-    pairs: &[(&TraversalSetup, EngineVariant)],
+    pairs: &[(&'a TraversalSetup, EngineVariant)],
     round: usize,
     timings: &mut [Timings],
-    mut kept: Option<&mut [Option<Structure>]>,
+    mut kept: Option<&mut [Option<Built<'a>>]>,
 ) -> anyhow::Result<()> {
     for c in round_order(round, pairs.len()) {
         let (setup, variant) = pairs[c];
@@ -144,7 +153,7 @@ fn build_each(
 /// hits not yet counted; an error for one not built.
 fn engines_on_scenes<'a>(
     pairs: &[(&'a TraversalSetup, EngineVariant)],
-    structures: Vec<Option<Structure>>,
+    structures: Vec<Option<Built<'a>>>,
 ) -> anyhow::Result<Vec<EngineOnScene<'a>>> {
     pairs
         .iter()
@@ -193,10 +202,16 @@ fn trace_each_kind(
     round: usize,
     hooks: &TimingHooks,
 ) {
+    // Packets only for an engine that traces them as such (the row says n/a).
+    let paths = if on_scene.variant.engine.traces_lanes(8).is_ok() {
+        2
+    } else {
+        1
+    };
     for (k, set) in on_scene.setup.kinds.iter().enumerate() {
-        for (v, variant) in ["single", "packet8"].into_iter().enumerate() {
+        for (v, variant) in ["single", "packet8"].into_iter().enumerate().take(paths) {
             let start = Instant::now();
-            let hits = black_box(on_scene.structure.trace(set, v == 1));
+            let hits = black_box(on_scene.structure.visit(TraceKind { set, packets: v == 1 }));
             let rays = set.rays.len() as f64;
             let seconds = hooks.apply(variant, rays, start.elapsed().as_secs_f64());
             if round == 0 && v == 0 {
@@ -240,7 +255,7 @@ mod tests {
             assert_eq!(row.build_ms.samples, BUILD_ROUNDS, "{}", row.scene);
             for k in &row.kinds {
                 assert_eq!(k.single_mrays.samples, 3);
-                assert_eq!(k.packet_mrays.samples, 3);
+                assert_eq!(k.packet_mrays.unwrap().samples, 3);
             }
         }
         // The same structures and rays at either thread count: the same hits.

@@ -1,8 +1,9 @@
 //! What the measurement keeps of each engine on each scene before it becomes
 //! a row: the structure traced, the rays it hit, and the times of every round.
 
-use crate::bench::traversal::engines::{EngineVariant, Structure};
+use crate::bench::traversal::engines::EngineVariant;
 use crate::bench::traversal::setup::TraversalSetup;
+use crate::engines::Built;
 
 /// A scene and an engine measured on it: the structure traced and the rays it hit.
 pub(super) struct EngineOnScene<'a> {
@@ -11,7 +12,7 @@ pub(super) struct EngineOnScene<'a> {
     /// The engine.
     pub variant: EngineVariant,
     /// The engine's structure over the scene, of the last build.
-    pub structure: Structure,
+    pub structure: Built<'a>,
     /// Per ray set: rays hit by single rays.
     pub hits: Vec<u64>,
 }

@@ -24,7 +24,7 @@ mod rows;
 mod setup;
 mod trace;
 
-pub use engines::{Builder, EngineVariant, Structure};
+pub use engines::{Builder, EngineVariant};
 pub use measure::measure;
 pub use rows::{KindRow, TraversalRow};
 pub use setup::{TraversalSetup, scene_bounds};

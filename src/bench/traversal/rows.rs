@@ -1,12 +1,13 @@
 //! The traversal table: one row per scene, engine and thread count, with the
 //! figures of each ray kind, made from the times of the measurement.
 
-use crate::accel::{Accel, Bvh, TraversalCounter, TraversalStats};
+use crate::accel::{Accel, TraversalCounter, TraversalStats};
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{KindRays, Query, RayKind};
-use crate::bench::traversal::engines::{EngineVariant, Structure};
+use crate::bench::traversal::engines::EngineVariant;
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
-use crate::engine::{EmbreeIsa, Engine};
+use crate::embree_settings::EmbreeIsa;
+use crate::engines::{Engine, WithAccel};
 use crate::statistics::Summary;
 
 /// One row of the traversal table: a scene, an engine and a thread count.
@@ -65,13 +66,14 @@ impl TraversalRow {
         )];
         for k in &self.kinds {
             let kind = ("rays", k.kind.name().to_string());
-            for (v, (kernel, s)) in [("single", k.single_mrays), ("packet8", k.packet_mrays)]
-                .into_iter()
-                .enumerate()
-            {
+            // The paths the engine traced (packets: not for a single-ray engine).
+            let paths = [("single", Some(k.single_mrays)), ("packet8", k.packet_mrays)];
+            for (v, (kernel, s)) in paths.into_iter().enumerate() {
+                let (Some(s), Some(growth)) = (s, k.growth_vs_first[v]) else {
+                    continue;
+                };
                 let l = labels(&[kind.clone(), ("kernel", kernel.to_string())]);
                 figures.push(Figure::new("throughput", "Mrays/s", Better::Higher, &l, s));
-                let growth = k.growth_vs_first[v];
                 figures.push(Figure::new(
                     "time per ray vs first scene",
                     "x",
@@ -83,13 +85,15 @@ impl TraversalRow {
                     figures.push(Figure::new("raypack/embree", "x", Better::Neither, &l, vs[v]));
                 }
             }
-            figures.push(Figure::new(
-                "packet8/single",
-                "x",
-                Better::Neither,
-                &labels(&[kind]),
-                k.packet_vs_single,
-            ));
+            if let Some(ratio) = k.packet_vs_single {
+                figures.push(Figure::new(
+                    "packet8/single",
+                    "x",
+                    Better::Neither,
+                    &labels(&[kind]),
+                    ratio,
+                ));
+            }
         }
         figures
     }
@@ -108,17 +112,18 @@ pub struct KindRow {
     pub hits: u64,
     /// Single-ray traversal, Mrays/s.
     pub single_mrays: Summary,
-    /// 8-ray packets, Mrays/s.
-    pub packet_mrays: Summary,
+    /// 8-ray packets, Mrays/s (None for an engine that traces single rays only).
+    pub packet_mrays: Option<Summary>,
     /// `packet_mrays / single_mrays`, round by round.
-    pub packet_vs_single: Summary,
+    pub packet_vs_single: Option<Summary>,
     /// Counts of the single-ray pass (raypack only: Embree does not report them).
     pub single_stats: Option<TraversalStats>,
     /// Counts of the packet pass (raypack only).
     pub packet_stats: Option<TraversalStats>,
     /// Time per ray against the same engine and kind on the first scene
-    /// measured alongside, round by round (1 for itself): single rays, packets.
-    pub growth_vs_first: [Summary; 2],
+    /// measured alongside, round by round (1 for itself): single rays, packets
+    /// (None where not traced).
+    pub growth_vs_first: [Option<Summary>; 2],
     /// raypack rows: Mrays/s over Embree's on the same rays, round by round,
     /// when Embree was measured alongside: single rays, packets.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -128,10 +133,9 @@ pub struct KindRow {
 impl KindRow {
     /// The faster of single rays and packets by median, Mrays/s, and which it was.
     pub fn best(&self) -> (f64, &'static str) {
-        if self.packet_mrays.median > self.single_mrays.median {
-            (self.packet_mrays.median, "packet8")
-        } else {
-            (self.single_mrays.median, "single")
+        match self.packet_mrays {
+            Some(packet) if packet.median > self.single_mrays.median => (packet.median, "packet8"),
+            _ => (self.single_mrays.median, "single"),
         }
     }
 }
@@ -186,6 +190,8 @@ fn row(
 ) -> anyhow::Result<TraversalRow> {
     let setup = measured.setup;
     let mrays = |per_ray: &[f64]| Summary::of(&per_ray.iter().map(|t| 1e-6 / t).collect::<Vec<_>>());
+    // A path not traced (packets of a single-ray engine) has no times: no figure.
+    let traced = |per_ray: &[f64]| !per_ray.is_empty();
     let kinds = setup
         .kinds
         .iter()
@@ -194,27 +200,24 @@ fn row(
             let [single, packet] = &timing.per_ray[k];
             // Per kind, the first scene's sets are the same kinds in the same order.
             let first = first_per_ray.get(k).unwrap_or(&timing.per_ray[k]);
-            let stats = match &measured.structure {
-                Structure::Raypack(bvh) => {
-                    let [single, packet] = counted(bvh, set);
-                    (Some(single), Some(packet))
-                }
-                #[cfg(feature = "embree")]
-                Structure::Embree(_) => (None, None),
-            };
+            let stats = measured.structure.visit(Counted(set));
             Ok(KindRow {
                 kind: set.kind,
                 query: set.kind.query(),
                 rays: set.rays.len(),
                 hits: measured.hits[k],
                 single_mrays: mrays(single)?,
-                packet_mrays: mrays(packet)?,
-                packet_vs_single: Summary::paired_ratio(single, packet)?,
-                single_stats: stats.0,
-                packet_stats: stats.1,
+                packet_mrays: traced(packet).then(|| mrays(packet)).transpose()?,
+                packet_vs_single: traced(packet)
+                    .then(|| Summary::paired_ratio(single, packet))
+                    .transpose()?,
+                single_stats: stats.map(|[single, _]| single),
+                packet_stats: stats.map(|[_, packet]| packet),
                 growth_vs_first: [
-                    Summary::paired_ratio(single, &first[0])?,
-                    Summary::paired_ratio(packet, &first[1])?,
+                    Some(Summary::paired_ratio(single, &first[0])?),
+                    traced(packet)
+                        .then(|| Summary::paired_ratio(packet, &first[1]))
+                        .transpose()?,
                 ],
                 vs_embree: match embree_per_ray.and_then(|e| e.get(k)) {
                     Some([e_single, e_packet]) => Some([
@@ -226,11 +229,7 @@ fn row(
             })
         })
         .collect::<anyhow::Result<_>>()?;
-    let sah_cost = match &measured.structure {
-        Structure::Raypack(bvh) => Some(bvh.info().sah_cost),
-        #[cfg(feature = "embree")]
-        Structure::Embree(_) => None,
-    };
+    let sah_cost = measured.structure.sah_cost();
     Ok(TraversalRow {
         scene: setup.name.clone(),
         primitives: setup.prims.len(),
@@ -245,20 +244,31 @@ fn row(
     })
 }
 
-/// The traversal counts of `set` on `bvh`: single rays, packets.
-fn counted(bvh: &Bvh, set: &KindRays) -> [TraversalStats; 2] {
-    let mut stats: [TraversalCounter; 2] = Default::default();
-    for r in &set.rays {
-        match set.kind.query() {
-            Query::Nearest => _ = bvh.intersect_counted(r, &mut stats[0]),
-            Query::AnyHit => _ = bvh.occluded_counted(r, &mut stats[0]),
+/// The traversal counts of a kind's rays on a structure that counts its work
+/// ([`Accel::COUNTS_WORK`]): single rays, packets; None for one that does not.
+struct Counted<'r>(&'r KindRays);
+
+impl WithAccel<'_> for Counted<'_> {
+    type Output = Option<[TraversalStats; 2]>;
+
+    fn run<A: Accel>(self, accel: &A) -> Self::Output {
+        if !A::COUNTS_WORK {
+            return None;
         }
-    }
-    for p in &set.packets {
-        match set.kind.query() {
-            Query::Nearest => _ = bvh.intersect_packet_counted(p, &mut stats[1]),
-            Query::AnyHit => _ = bvh.occluded_packet_counted(p, &mut stats[1]),
+        let set = self.0;
+        let mut stats: [TraversalCounter; 2] = Default::default();
+        for r in &set.rays {
+            match set.kind.query() {
+                Query::Nearest => _ = accel.intersect_counted(r, &mut stats[0]),
+                Query::AnyHit => _ = accel.occluded_counted(r, &mut stats[0]),
+            }
         }
+        for p in &set.packets {
+            match set.kind.query() {
+                Query::Nearest => _ = accel.intersect_packet_counted(p, &mut stats[1]),
+                Query::AnyHit => _ = accel.occluded_packet_counted(p, &mut stats[1]),
+            }
+        }
+        Some(stats.map(|s| *s.total()))
     }
-    stats.map(|s| *s.total())
 }

@@ -5,18 +5,18 @@ use std::path::Path;
 
 use clap::Args;
 
+use crate::accel::AccelKind;
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{KindRays, RayKind, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::scene_bounds;
-use crate::cli::args::{load_scene, parse_size, scene_camera};
+use crate::cli::args::{engine_error, load_scene, parse_size, scene_camera};
 use crate::cli::bench::output::{Output, Run, figure};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
-use crate::render::engine::{AccelKind, Engine, WithAccel, with_engine};
+use crate::engines::{Engine, EngineOptions, WithAccel};
 use crate::render::{Block, KernelKind};
-use crate::scene::Scene;
 use crate::statistics::{StatsError, Summary};
 
 /// Options of `bench scene`.
@@ -150,13 +150,12 @@ struct MeasurementPlan<'a> {
     kind_variants: &'a [Variant],
     runs: usize,
     hooks: &'a TimingHooks,
+    /// The engines measured, in the order of their units' numbers.
+    engines: &'a [Engine],
 }
 
 /// Builds one engine's units for some rays and variants, as its number.
 type UnitsOf<'x> = dyn Fn(Rays<'x>, &[Variant], usize) -> Result<Vec<Unit<'x>>, String> + 'x;
-
-/// Each measurement: engine number, ray kind, timing; and each engine's build time.
-type Measurements = (Vec<(usize, RayKind, Timing)>, Vec<f64>);
 
 impl MeasurementPlan<'_> {
     /// Per ray kind, the variants of every engine of `engines` interleaved in one set of rounds.
@@ -174,55 +173,29 @@ impl MeasurementPlan<'_> {
         for (kind, rays, variants) in kinds {
             let mut all = Vec::new();
             for (e, units_of) in engines.iter().enumerate() {
-                all.extend(units_of(rays, variants, e)?);
+                // Only the kernels the engine traces as such (see `run`'s notes).
+                let traced: Vec<Variant> = variants
+                    .iter()
+                    .copied()
+                    .filter(|v| self.engines[e].traces_lanes(v.kernel.lanes()).is_ok())
+                    .collect();
+                all.extend(units_of(rays, &traced, e)?);
             }
-            let timings = interleave(&all, self.runs, self.hooks, rays.count())?;
+            let timings = interleave(&all, self.engines, self.runs, self.hooks, rays.count())?;
             out.extend(all.iter().zip(timings).map(|(u, t)| (u.engine, kind, t)));
         }
         Ok(out)
     }
 }
 
-/// The first engine's structure: measured alone, or handed on to build the second's.
-struct FirstEngine<'a> {
-    plan: &'a MeasurementPlan<'a>,
-    scene: &'a Scene,
-    second: Option<Engine>,
-    accel: AccelKind,
-}
+/// An engine's structure as a maker of timed units ([`units`]) for the plan.
+struct UnitsJob;
 
-impl WithAccel for FirstEngine<'_> {
-    type Output = anyhow::Result<Result<Measurements, String>>;
+impl<'s> WithAccel<'s> for UnitsJob {
+    type Output = Box<UnitsOf<'s>>;
 
-    fn run<A: crate::accel::Accel>(self, a: &A, setup_seconds: f64) -> Self::Output {
-        let Some(second) = self.second else {
-            let of_a = |r, v: &[Variant], e| units(a, r, v, e);
-            return Ok(self.plan.measure(&[&of_a]).map(|m| (m, vec![setup_seconds])));
-        };
-        let job = SecondEngine {
-            plan: self.plan,
-            first: a,
-            first_setup: setup_seconds,
-        };
-        with_engine(self.scene, second, self.accel, job)
-    }
-}
-
-/// The second engine's structure, measured interleaved with the first's.
-struct SecondEngine<'a, A> {
-    plan: &'a MeasurementPlan<'a>,
-    first: &'a A,
-    first_setup: f64,
-}
-
-impl<A: crate::accel::Accel> WithAccel for SecondEngine<'_, A> {
-    type Output = Result<Measurements, String>;
-
-    fn run<B: crate::accel::Accel>(self, b: &B, setup_seconds: f64) -> Self::Output {
-        let of_a = |r, v: &[Variant], e| units(self.first, r, v, e);
-        let of_b = |r, v: &[Variant], e| units(b, r, v, e);
-        let measured = self.plan.measure(&[&of_a, &of_b])?;
-        Ok((measured, vec![self.first_setup, setup_seconds]))
+    fn run<A: crate::accel::Accel + 's>(self, accel: &'s A) -> Self::Output {
+        Box::new(move |rays, variants, engine| units(accel, rays, variants, engine))
     }
 }
 
@@ -280,6 +253,31 @@ pub fn run(args: SceneArgs) -> CliResult {
     }
     let name = args.scene.file_name().unwrap_or(args.scene.as_os_str());
     let name = name.to_string_lossy().into_owned();
+    // Every engine's structure is built first, so that their variants
+    // interleave; an engine that cannot take the scene, or a kernel it does not
+    // trace, is left out with a note (all of them out: the user's to change).
+    let mut engines: Vec<Engine> = Vec::new();
+    let mut left_out = Vec::new();
+    for &engine in &args.engine {
+        match engine.takes(&scene.primitives) {
+            _ if engines.contains(&engine) => {}
+            Ok(()) => engines.push(engine),
+            Err(na) => left_out.push(na.to_string()),
+        }
+    }
+    if engines.is_empty() {
+        return Err(CliError::BadInput(anyhow::anyhow!(left_out.join("; "))));
+    }
+    for &engine in &engines {
+        for &kernel in &args.kernel {
+            if let Err(na) = engine.traces_lanes(kernel.lanes()) {
+                left_out.push(format!("{na}: no {engine} {} rows", kernel.name()));
+            }
+        }
+    }
+    for note in &left_out {
+        eprintln!("note: {note}");
+    }
     let plan = MeasurementPlan {
         frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
         variants: &variants,
@@ -287,28 +285,36 @@ pub fn run(args: SceneArgs) -> CliResult {
         kind_variants: &kind_variants,
         runs: args.runs as usize,
         hooks: &run.hooks,
+        engines: &engines,
     };
-    // Every engine's structure is built first, so that their variants interleave.
-    let mut engines: Vec<Engine> = Vec::new();
-    for &engine in &args.engine {
-        if !engines.contains(&engine) {
-            engines.push(engine);
-        }
-    }
-    let job = FirstEngine {
-        plan: &plan,
-        scene: &scene,
-        second: engines.get(1).copied(),
+    let options = EngineOptions {
         accel: args.accel,
+        ..EngineOptions::default()
     };
-    let (timings, setup_seconds) = with_engine(&scene, engines[0], args.accel, job)
-        .and_then(|inner| inner)
-        .map_err(CliError::BadInput)?
-        .map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
+    let devices = engines
+        .iter()
+        .map(|e| e.device(&options))
+        .collect::<anyhow::Result<Vec<_>>>()
+        .map_err(CliError::BadInput)?;
+    let mut built = Vec::new();
+    let mut setup_seconds = Vec::new();
+    for device in &devices {
+        let (structure, seconds) = device.build_timed(&scene.primitives).map_err(engine_error)?;
+        built.push(structure);
+        setup_seconds.push(seconds);
+    }
+    let structures: Vec<&'static str> = built.iter().map(|b| b.describe().structure).collect();
+    let timings = {
+        let makers: Vec<Box<UnitsOf<'_>>> = built.iter().map(|b| b.visit(UnitsJob)).collect();
+        let makers: Vec<&UnitsOf<'_>> = makers.iter().map(|m| &**m).collect();
+        plan.measure(&makers)
+    }
+    .map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
     let measured: Vec<Measured> = timings
         .into_iter()
         .map(|(e, kind, timing)| Measured {
             engine: engines[e],
+            structure: structures[e],
             kind,
             mrays: timing.mrays(),
             timing,
@@ -323,10 +329,7 @@ pub fn run(args: SceneArgs) -> CliResult {
                 scene: name.clone(),
                 engine: m.engine.name(),
                 kernel: m.timing.variant.kernel.name(),
-                accel: match m.engine {
-                    Engine::Raypack => args.accel.name(),
-                    Engine::Embree => "embree",
-                },
+                accel: m.structure,
                 threads: m.timing.variant.threads,
                 unit: "Mrays/s",
                 mrays_per_s: m.timing.mrays_per_s(),
@@ -351,7 +354,7 @@ pub fn run(args: SceneArgs) -> CliResult {
     let embree = args
         .engine
         .contains(&Engine::Embree)
-        .then_some(crate::engine::DEFAULT_EMBREE_CONFIG);
+        .then_some(crate::embree_settings::DEFAULT_EMBREE_CONFIG);
     run.finish(rows, figures, embree, |rows| {
         outln!(
             "{}: {} primitives, {}x{} primary rays through pixel centres (other kinds from their hits), \
@@ -371,6 +374,8 @@ pub fn run(args: SceneArgs) -> CliResult {
 /// One variant of one engine and ray kind, measured.
 struct Measured {
     engine: Engine,
+    /// The engine's structure (`bvh`, `none`, `embree`).
+    structure: &'static str,
     kind: RayKind,
     timing: Timing,
     /// Each run's Mrays/s.

@@ -5,12 +5,13 @@ use clap::Args;
 
 use crate::bench::rays::RayKind;
 use crate::bench::traversal::EngineVariant;
-use crate::bench::traversal::{Builder, TraversalRow, TraversalSetup, measure, scene_bounds};
+use crate::bench::traversal::{Builder, KindRow, TraversalRow, TraversalSetup, measure, scene_bounds};
 use crate::cli::args::{load_scene, parse_size};
 use crate::cli::bench::output::{Output, Run, figure};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
-use crate::engine::{EmbreeIsa, Engine};
+use crate::embree_settings::EmbreeIsa;
+use crate::engines::Engine;
 use crate::scene::generate::random::framing_camera;
 
 /// Options of `bench traversal`.
@@ -162,8 +163,8 @@ fn print_traversal(rows: &[TraversalRow]) -> CliResult {
                 k.rays,
                 100.0 * k.hits as f64 / k.rays.max(1) as f64,
                 figure(&k.single_mrays, 2, ""),
-                figure(&k.packet_mrays, 2, ""),
-                figure(&k.packet_vs_single, 2, "x"),
+                k.packet_mrays.map_or("n/a".into(), |m| figure(&m, 2, "")),
+                k.packet_vs_single.map_or("n/a".into(), |r| figure(&r, 2, "x")),
             )?;
         }
     }
@@ -181,7 +182,9 @@ fn print_traversal(rows: &[TraversalRow]) -> CliResult {
                     .kinds
                     .iter()
                     .map(|k| {
-                        let [single, packet] = k.growth_vs_first.map(|g| figure(&g, 2, "x"));
+                        let [single, packet] = k
+                            .growth_vs_first
+                            .map(|g| g.map_or("n/a".into(), |g| figure(&g, 2, "x")));
                         format!("{} single {single} packet8 {packet}", k.kind.name())
                     })
                     .collect();
@@ -215,10 +218,10 @@ fn print_traversal(rows: &[TraversalRow]) -> CliResult {
                 .map(|r| {
                     let b = &r.kinds[k];
                     format!(
-                        "vs {}: single {:.2}x packet8 {:.2}x",
+                        "vs {}: single {:.2}x packet8 {}x",
                         r.variant().name(),
                         a.single_mrays.median / b.single_mrays.median,
-                        a.packet_mrays.median / b.packet_mrays.median
+                        packet_ratio(a, b)
                     )
                 })
                 .collect();
@@ -298,4 +301,12 @@ fn print_growth_against_embree(rows: &[TraversalRow]) -> CliResult {
         )?;
     }
     Ok(())
+}
+
+/// raypack's packet throughput over another engine's, by medians, "n/a" where either traced no packets.
+fn packet_ratio(a: &KindRow, b: &KindRow) -> String {
+    match (a.packet_mrays, b.packet_mrays) {
+        (Some(a), Some(b)) => format!("{:.2}", a.median / b.median),
+        _ => "n/a".into(),
+    }
 }

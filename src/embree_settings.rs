@@ -1,26 +1,6 @@
-//! The engines a ray query can go through, as command-line choices, and how
-//! Embree is configured for them. The bottom floor: it names engines and
-//! imports nothing, so every layer may ask which engine it serves.
-
-/// Which engine traces the rays.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Engine {
-    /// raypack's own kernels and acceleration structure.
-    Raypack,
-    /// Embree 4 (needs the `embree` feature).
-    Embree,
-}
-
-impl Engine {
-    /// The name on the command line and in results.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Raypack => "raypack",
-            Self::Embree => "embree",
-        }
-    }
-}
+//! How Embree is configured: its scene mode, its kernels, its device string,
+//! as command-line choices. The bottom floor: it imports nothing, so the
+//! `embree` wrapper below the engine registry and the commands above it agree.
 
 /// How Embree builds its scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]

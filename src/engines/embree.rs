@@ -1,0 +1,80 @@
+//! Embree 4 as an engine (the `embree` feature): a device per run made with
+//! the `--embree-config` string, a scene per build in the `--embree-mode`
+//! (robust for checks, fast for benchmarks), every primitive kind translated
+//! (`embree::translate`). Without the feature the engine keeps its
+//! name and says how to get it.
+
+use crate::engines::capabilities::Capabilities;
+
+/// Embree in the registry.
+pub struct EmbreeEngine;
+
+/// What Embree can do, linked or not: everything raypack's kernels do, uncounted.
+const CAPABILITIES: Capabilities = Capabilities {
+    counts_work: false,
+    ..Capabilities::ALL
+};
+
+#[cfg(feature = "embree")]
+mod linked {
+    use std::sync::Arc;
+
+    use super::*;
+    use crate::embree::{Device, EmbreeScene, flush_denormals};
+    use crate::embree_settings::EmbreeMode;
+    use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
+    use crate::geometry::Primitive;
+
+    impl EngineModule for EmbreeEngine {
+        const NAME: &'static str = "embree";
+        const CAPABILITIES: Capabilities = CAPABILITIES;
+        /// The device and the scene mode of every build.
+        type Device = (Arc<Device>, EmbreeMode);
+        type Built<'p> = EmbreeScene;
+
+        fn device(options: &EngineOptions) -> anyhow::Result<Self::Device> {
+            Ok((
+                Arc::new(Device::new(&options.embree_config)?),
+                options.embree_mode,
+            ))
+        }
+
+        fn build((device, mode): &Self::Device, prims: &[Primitive]) -> anyhow::Result<EmbreeScene> {
+            let device = device.clone();
+            Ok(match mode {
+                EmbreeMode::Robust => EmbreeScene::robust(device, prims),
+                EmbreeMode::Fast => EmbreeScene::new(device, prims),
+            }?)
+        }
+
+        fn visit<'s, J: WithAccel<'s>>(scene: &'s EmbreeScene, job: J) -> J::Output {
+            job.run(scene)
+        }
+
+        fn describe(scene: &EmbreeScene) -> Description {
+            let device = scene.device();
+            let mode = if scene.is_robust() { "robust" } else { "fast" };
+            Description {
+                structure: "embree",
+                settings: format!(
+                    "Embree {} \"{}\", {mode}",
+                    device.version_string(),
+                    device.config()
+                ),
+                translation: serde_json::to_value(scene.stats()).ok(),
+            }
+        }
+
+        fn thread_start() {
+            flush_denormals();
+        }
+    }
+}
+
+#[cfg(not(feature = "embree"))]
+crate::engines::unavailable::not_linked!(
+    EmbreeEngine,
+    "embree",
+    CAPABILITIES,
+    message = crate::embree_settings::EMBREE_MISSING
+);

@@ -1,0 +1,171 @@
+//! The engine registry from the command line: every engine this build links
+//! traces (and agrees with raypack), every engine it left out says how to get
+//! it, and what an engine cannot do is refused or left out with its reason.
+
+use crate::support::cli::{raypack, stderr};
+
+/// The engines behind a cargo feature, and whether this build has them.
+const FEATURE_ENGINES: [(&str, bool); 2] = [
+    ("embree", cfg!(feature = "embree")),
+    ("obvhs", cfg!(feature = "obvhs")),
+];
+
+/// The engines that trace single rays only (the peers).
+const SINGLE_RAY_ENGINES: [&str; 1] = ["obvhs"];
+
+#[test]
+fn each_engine_agrees_with_raypack_or_says_how_to_get_it() {
+    for (engine, linked) in FEATURE_ENGINES {
+        let out = raypack(&[
+            "check",
+            "gen:tetra",
+            "--engine",
+            engine,
+            "--kernel",
+            "scalar",
+            "--n",
+            "20000",
+            "--size",
+            "64x64",
+            "--json",
+        ]);
+        if linked {
+            assert!(out.status.success(), "{engine}: {}", stderr(&out));
+            let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+            assert_eq!(json["engines"], serde_json::json!(["raypack", engine]));
+            for set in json["sets"].as_array().unwrap() {
+                assert!(
+                    set["hit_agreement"].as_f64().unwrap() >= 0.9999,
+                    "{engine}: {set}"
+                );
+            }
+        } else {
+            assert_eq!(out.status.code(), Some(2), "{engine}: {}", stderr(&out));
+            let err = stderr(&out);
+            assert!(err.contains(&format!("without the `{engine}` feature")), "{err}");
+            assert!(out.stdout.is_empty());
+        }
+    }
+}
+
+#[test]
+fn a_single_ray_engine_refuses_packets_and_primitives_it_does_not_take() {
+    for engine in SINGLE_RAY_ENGINES {
+        let linked = FEATURE_ENGINES.iter().any(|&(e, l)| e == engine && l);
+        // Packets: refused before any work, whether linked or not.
+        let out = raypack(&["check", "gen:tetra", "--engine", engine, "--kernel", "packet8"]);
+        assert_eq!(out.status.code(), Some(2), "{engine}");
+        let err = stderr(&out);
+        assert!(
+            err.contains(&format!("n/a: {engine} traces single rays only")),
+            "{err}"
+        );
+        if !linked {
+            continue;
+        }
+        // Spheres: the build says what the engine takes.
+        let out = raypack(&[
+            "check",
+            "gen:spheres:50",
+            "--engine",
+            engine,
+            "--kernel",
+            "scalar",
+            "--n",
+            "100",
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{engine}");
+        let err = stderr(&out);
+        assert!(
+            err.contains(&format!("n/a: {engine} takes triangles and polygons only")),
+            "{err}"
+        );
+        assert!(err.contains("50 other primitives"), "{err}");
+    }
+}
+
+#[test]
+fn bench_traversal_measures_every_engine_it_can_and_says_what_it_left_out() {
+    let linked: Vec<&str> = FEATURE_ENGINES
+        .iter()
+        .filter(|&&(e, l)| l && e != "embree")
+        .map(|&(e, _)| e)
+        .collect();
+    if linked.is_empty() {
+        return;
+    }
+    let engines = format!("raypack,{}", linked.join(","));
+    let out = raypack(&[
+        "bench",
+        "traversal",
+        "--engine",
+        &engines,
+        "--generated",
+        "spheres",
+        "--sizes",
+        "300",
+        "--size",
+        "32x32",
+        "--random",
+        "2048",
+        "--rounds",
+        "2",
+        "--json",
+    ]);
+    // Spheres: only raypack measured, the peers left out with their reason.
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    for engine in &linked {
+        assert!(err.contains(&format!("n/a: {engine} takes triangles")), "{err}");
+    }
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let engines_measured: Vec<&str> = json["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["engine"].as_str().unwrap())
+        .collect();
+    assert_eq!(engines_measured, ["raypack"]);
+    // A mesh: every engine, the peers' packets n/a (null), their single rays hitting what raypack's hit.
+    let out = raypack(&[
+        "bench",
+        "traversal",
+        "--engine",
+        &engines,
+        "--sizes",
+        "1000",
+        "--size",
+        "32x32",
+        "--random",
+        "2048",
+        "--rounds",
+        "2",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let rows = json["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 1 + linked.len());
+    let hits = |row: &serde_json::Value| -> Vec<u64> {
+        row["kinds"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|k| k["hits"].as_u64().unwrap())
+            .collect()
+    };
+    for row in &rows[1..] {
+        for k in row["kinds"].as_array().unwrap() {
+            assert!(k["single_mrays"]["median"].as_f64().unwrap() > 0.0, "{row}");
+            assert!(k["packet_mrays"].is_null(), "{row}");
+        }
+        let (ours, theirs) = (hits(&rows[0]), hits(row));
+        for (a, b) in ours.iter().zip(&theirs) {
+            assert!(
+                a.abs_diff(*b) * 1000 <= *a,
+                "{}: {ours:?} vs {theirs:?}",
+                row["engine"]
+            );
+        }
+    }
+}
