@@ -29,7 +29,7 @@ if [ -z "${ENGINES:-}" ]; then
     # Every engine the binary links (`raypack env` lists its features).
     features="$("$RAYPACK" env | sed -n 's/^features *//p')"
     ENGINES=raypack
-    for engine in embree obvhs; do
+    for engine in embree obvhs bvh; do
         if grep -qw "$engine" <<< "$features"; then
             ENGINES+=",$engine"
         fi

@@ -101,6 +101,7 @@ impl Environment {
             features: [
                 ("embree", cfg!(feature = "embree")),
                 ("obvhs", cfg!(feature = "obvhs")),
+                ("bvh", cfg!(feature = "bvh")),
             ]
             .into_iter()
             .filter(|&(_, on)| on)

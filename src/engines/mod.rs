@@ -16,6 +16,7 @@
 //! Adding an engine: write its module (an [`EngineModule`]), and add one line
 //! to the registry.
 
+pub mod bvh_binary;
 mod capabilities;
 pub mod embree;
 mod engine_module;
@@ -39,6 +40,8 @@ registry::registry! {
     Embree => embree::EmbreeEngine,
     /// obvhs, its compressed 8-wide BVH (needs the `obvhs` feature).
     Obvhs => obvhs_cwbvh::ObvhsEngine,
+    /// bvh, its binary SAH BVH (needs the `bvh` feature).
+    Bvh => bvh_binary::BvhCrateEngine,
 }
 
 /// Why an engine cannot do what was asked: a command refuses it (the user's

@@ -5,13 +5,14 @@
 use crate::support::cli::{raypack, stderr};
 
 /// The engines behind a cargo feature, and whether this build has them.
-const FEATURE_ENGINES: [(&str, bool); 2] = [
+const FEATURE_ENGINES: [(&str, bool); 3] = [
     ("embree", cfg!(feature = "embree")),
     ("obvhs", cfg!(feature = "obvhs")),
+    ("bvh", cfg!(feature = "bvh")),
 ];
 
 /// The engines that trace single rays only (the peers).
-const SINGLE_RAY_ENGINES: [&str; 1] = ["obvhs"];
+const SINGLE_RAY_ENGINES: [&str; 2] = ["obvhs", "bvh"];
 
 #[test]
 fn each_engine_agrees_with_raypack_or_says_how_to_get_it() {
