@@ -29,7 +29,8 @@ mod linked {
     use ::bvh::ray::Ray as BvhRay;
     use nalgebra::{Point3, Vector3};
 
-    use super::*;
+    use crate::engines::bvh_binary::{BvhCrateEngine, CAPABILITIES};
+    use crate::engines::capabilities::Capabilities;
     use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
     use crate::engines::single_ray::{SingleRayQueries, SingleRays};
     use crate::engines::triangle_soup::TriangleSoup;

@@ -19,9 +19,10 @@ const CAPABILITIES: Capabilities = Capabilities {
 mod linked {
     use std::sync::Arc;
 
-    use super::*;
     use crate::embree::{Device, EmbreeScene, flush_denormals};
     use crate::embree_settings::EmbreeMode;
+    use crate::engines::capabilities::Capabilities;
+    use crate::engines::embree::{CAPABILITIES, EmbreeEngine};
     use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
     use crate::geometry::Primitive;
 

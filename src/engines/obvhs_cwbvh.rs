@@ -30,8 +30,9 @@ mod linked {
     use ::obvhs::ray::{Ray as ObvhsRay, RayHit};
     use ::obvhs::triangle::Triangle as ObvhsTriangle;
 
-    use super::*;
+    use crate::engines::capabilities::Capabilities;
     use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
+    use crate::engines::obvhs_cwbvh::{CAPABILITIES, ObvhsEngine};
     use crate::engines::single_ray::{SingleRayQueries, SingleRays};
     use crate::engines::triangle_soup::TriangleSoup;
     use crate::geometry::Primitive;

@@ -24,10 +24,10 @@ fn each_engine_agrees_with_raypack_or_says_how_to_get_it() {
             engine,
             "--kernel",
             "scalar",
+            "--rays",
+            "random",
             "--n",
             "20000",
-            "--size",
-            "64x64",
             "--json",
         ]);
         if linked {
