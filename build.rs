@@ -126,6 +126,18 @@ fn record_build() {
     println!("cargo:rustc-env=RAYPACK_BUILD_COMMIT={commit}");
     println!("cargo:rustc-env=RAYPACK_BUILD_MODIFIED={modified}");
     println!("cargo:rustc-env=RAYPACK_LOCKED_VERSIONS={}", locked_versions());
+    println!("cargo:rustc-env=RAYPACK_BUILD_FEATURES={}", enabled_features());
+}
+
+/// The cargo features this build has, `a,b` (cargo sets `CARGO_FEATURE_A`
+/// for each), so that `raypack env` lists them without a list of its own.
+fn enabled_features() -> String {
+    let mut features: Vec<String> = env::vars()
+        .filter_map(|(k, _)| Some(k.strip_prefix("CARGO_FEATURE_")?.to_lowercase().replace('_', "-")))
+        .filter(|f| f != "default")
+        .collect();
+    features.sort();
+    features.join(",")
 }
 
 /// The peer engines' versions locked in `Cargo.lock`, `name=version,…`, for

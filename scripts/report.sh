@@ -26,14 +26,8 @@ if [ -z "${RAYPACK:-}" ]; then
     fi
 fi
 if [ -z "${ENGINES:-}" ]; then
-    # Every engine the binary links (`raypack env` lists its features).
-    features="$("$RAYPACK" env | sed -n 's/^features *//p')"
-    ENGINES=raypack
-    for engine in embree obvhs bvh; do
-        if grep -qw "$engine" <<< "$features"; then
-            ENGINES+=",$engine"
-        fi
-    done
+    # Every engine the binary links (`raypack env` lists them).
+    ENGINES="$("$RAYPACK" env | sed -n 's/^engines *//p' | tr ' ' ',')"
 fi
 
 # into FILE COMMAND...: COMMAND's stdout into FILE, renamed into place when complete.

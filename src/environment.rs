@@ -98,15 +98,11 @@ impl Environment {
             rustc: env!("RAYPACK_BUILD_RUSTC").to_string(),
             profile: env!("RAYPACK_BUILD_PROFILE").to_string(),
             rustflags: env!("RAYPACK_BUILD_RUSTFLAGS").to_string(),
-            features: [
-                ("embree", cfg!(feature = "embree")),
-                ("obvhs", cfg!(feature = "obvhs")),
-                ("bvh", cfg!(feature = "bvh")),
-            ]
-            .into_iter()
-            .filter(|&(_, on)| on)
-            .map(|(name, _)| name.to_string())
-            .collect(),
+            features: env!("RAYPACK_BUILD_FEATURES")
+                .split(',')
+                .filter(|f| !f.is_empty())
+                .map(String::from)
+                .collect(),
             git_commit: env!("RAYPACK_BUILD_COMMIT").to_string(),
             git_modified: env!("RAYPACK_BUILD_MODIFIED") == "true",
             embree: None,

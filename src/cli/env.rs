@@ -1,11 +1,12 @@
 //! `raypack env [--json]`: the machine and the build that results are measured
 //! on: CPU, cores, ISA extensions (compiled in and present), transparent huge
 //! pages, rustc, profile, flags, git commit, Embree (with the `embree` feature)
-//! and the date.
+//! and the date; as text, also the engines this build links.
 
 use crate::cli::args::environment;
 use crate::cli::error::CliResult;
 use crate::cli::stdout::outln;
+use crate::engines::Engine;
 
 /// Options of `env`.
 #[derive(clap::Args, Debug)]
@@ -29,6 +30,12 @@ pub fn run(args: Args) -> CliResult {
         for (name, value) in env.rows() {
             outln!("{name:<12} {value}")?;
         }
+        let linked: Vec<&str> = Engine::ALL
+            .iter()
+            .filter(|e| e.linked())
+            .map(|e| e.name())
+            .collect();
+        outln!("{:<12} {}", "engines", linked.join(" "))?;
     }
     Ok(())
 }

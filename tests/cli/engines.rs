@@ -3,20 +3,29 @@
 //! it, and what an engine cannot do is refused or left out with its reason.
 
 use crate::support::cli::{raypack, stderr};
+use raypack::engines::Engine;
 
-/// The engines behind a cargo feature, and whether this build has them.
-const FEATURE_ENGINES: [(&str, bool); 3] = [
-    ("embree", cfg!(feature = "embree")),
-    ("obvhs", cfg!(feature = "obvhs")),
-    ("bvh", cfg!(feature = "bvh")),
-];
+/// The engines behind a cargo feature of their name, and whether this build has them.
+fn feature_engines() -> Vec<(&'static str, bool)> {
+    Engine::ALL
+        .iter()
+        .filter(|&&e| e != Engine::Raypack)
+        .map(|e| (e.name(), e.linked()))
+        .collect()
+}
 
 /// The engines that trace single rays only (the peers).
-const SINGLE_RAY_ENGINES: [&str; 2] = ["obvhs", "bvh"];
+fn single_ray_engines() -> Vec<&'static str> {
+    Engine::ALL
+        .iter()
+        .filter(|e| e.traces_lanes(8).is_err())
+        .map(|e| e.name())
+        .collect()
+}
 
 #[test]
 fn each_engine_agrees_with_raypack_or_says_how_to_get_it() {
-    for (engine, linked) in FEATURE_ENGINES {
+    for (engine, linked) in feature_engines() {
         let out = raypack(&[
             "check",
             "gen:tetra",
@@ -51,8 +60,8 @@ fn each_engine_agrees_with_raypack_or_says_how_to_get_it() {
 
 #[test]
 fn a_single_ray_engine_refuses_packets_and_primitives_it_does_not_take() {
-    for engine in SINGLE_RAY_ENGINES {
-        let linked = FEATURE_ENGINES.iter().any(|&(e, l)| e == engine && l);
+    for engine in single_ray_engines() {
+        let linked = feature_engines().iter().any(|&(e, l)| e == engine && l);
         // Packets: refused before any work, whether linked or not.
         let out = raypack(&["check", "gen:tetra", "--engine", engine, "--kernel", "packet8"]);
         assert_eq!(out.status.code(), Some(2), "{engine}");
@@ -87,10 +96,9 @@ fn a_single_ray_engine_refuses_packets_and_primitives_it_does_not_take() {
 
 #[test]
 fn bench_traversal_measures_every_engine_it_can_and_says_what_it_left_out() {
-    let linked: Vec<&str> = FEATURE_ENGINES
-        .iter()
-        .filter(|&&(e, l)| l && e != "embree")
-        .map(|&(e, _)| e)
+    let linked: Vec<&str> = single_ray_engines()
+        .into_iter()
+        .filter(|&e| feature_engines().contains(&(e, true)))
         .collect();
     if linked.is_empty() {
         return;

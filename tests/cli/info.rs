@@ -140,6 +140,13 @@ fn env_describes_the_machine_and_the_build() {
     let out = run(&["env"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
+    let text_row = |text: &str, name: &str| -> String {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(&format!("{name} ")))
+            .unwrap_or_default();
+        line[name.len()..].trim().to_string()
+    };
     for row in [
         "cpu ",
         "isa (build) ",
@@ -149,6 +156,7 @@ fn env_describes_the_machine_and_the_build() {
         "profile ",
         "commit ",
         "date ",
+        "engines ",
     ] {
         assert!(
             text.lines().any(|l| l.starts_with(row)),
@@ -190,6 +198,23 @@ fn env_describes_the_machine_and_the_build() {
         assert_eq!(json["git_modified"], !status.stdout.is_empty(), "{json}");
     }
     assert_eq!(json["embree"].is_object(), cfg!(feature = "embree"), "{json}");
+    // The features as cargo built them; the engines the registry links.
+    let features: Vec<&str> = json["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    let engines = text_row(&text, "engines");
+    for (feature, on) in [
+        ("embree", cfg!(feature = "embree")),
+        ("obvhs", cfg!(feature = "obvhs")),
+        ("bvh", cfg!(feature = "bvh")),
+    ] {
+        assert_eq!(features.contains(&feature), on, "{features:?}");
+        assert_eq!(engines.split(' ').any(|e| e == feature), on, "{engines}");
+    }
+    assert!(engines.starts_with("raypack"), "{engines}");
 
     let out = run(&["env", "--no-such-flag"]);
     assert_eq!(out.status.code(), Some(2));
