@@ -7,19 +7,13 @@
 //! nearest hit: the comparison measures the crate's tree and walk. One ray at
 //! a time; triangles and polygons only ([`TriangleSoup`](crate::engines::triangle_soup::TriangleSoup)).
 
-use crate::engines::capabilities::{Capabilities, PrimitiveKinds};
+use crate::engines::capabilities::Capabilities;
 
 /// bvh in the registry.
 pub struct BvhCrateEngine;
 
 /// What bvh can do, linked or not.
-const CAPABILITIES: Capabilities = Capabilities {
-    packet8: false,
-    packet16: false,
-    primitives: PrimitiveKinds::Triangles,
-    counts_work: false,
-    ..Capabilities::ALL
-};
+const CAPABILITIES: Capabilities = Capabilities::SINGLE_RAY_TRIANGLES;
 
 #[cfg(feature = "bvh")]
 mod linked {

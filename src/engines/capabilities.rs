@@ -41,4 +41,14 @@ impl Capabilities {
         t_min: true,
         counts_work: true,
     };
+
+    /// A peer's: nearest and any hit on triangles (polygons split), one ray
+    /// at a time, no traversal counts.
+    pub const SINGLE_RAY_TRIANGLES: Self = Self {
+        packet8: false,
+        packet16: false,
+        primitives: PrimitiveKinds::Triangles,
+        counts_work: false,
+        ..Self::ALL
+    };
 }

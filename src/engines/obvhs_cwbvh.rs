@@ -6,19 +6,13 @@
 //! hit) with its two-sided Möller–Trumbore triangle test, one ray at a time.
 //! Triangles and polygons only ([`TriangleSoup`](crate::engines::triangle_soup::TriangleSoup)).
 
-use crate::engines::capabilities::{Capabilities, PrimitiveKinds};
+use crate::engines::capabilities::Capabilities;
 
 /// obvhs in the registry.
 pub struct ObvhsEngine;
 
 /// What obvhs can do, linked or not.
-const CAPABILITIES: Capabilities = Capabilities {
-    packet8: false,
-    packet16: false,
-    primitives: PrimitiveKinds::Triangles,
-    counts_work: false,
-    ..Capabilities::ALL
-};
+const CAPABILITIES: Capabilities = Capabilities::SINGLE_RAY_TRIANGLES;
 
 #[cfg(feature = "obvhs")]
 mod linked {

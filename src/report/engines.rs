@@ -50,12 +50,30 @@ impl Cell {
     }
 }
 
+/// The best of `values`: the highest, or the lowest where lower is better.
+fn best_value(values: impl Iterator<Item = f64>, higher_is_better: bool) -> Option<f64> {
+    values.reduce(|a, b| if (a < b) == higher_is_better { b } else { a })
+}
+
 /// The best median among `figures` for raypack (`ours`) or for the rivals.
 fn best<'a>(figures: impl Iterator<Item = &'a Figure>, ours: bool, higher_is_better: bool) -> Option<f64> {
-    figures
+    let medians = figures
         .filter(|f| (f.label("engine") == RAYPACK) == ours)
-        .map(|f| f.summary.median)
-        .reduce(|a, b| if (a < b) == higher_is_better { b } else { a })
+        .map(|f| f.summary.median);
+    best_value(medians, higher_is_better)
+}
+
+/// The (scene, threads) pairs of the throughput figures of `figures`, once
+/// each, in order of appearance.
+fn scenes_and_threads(figures: &[Figure]) -> Vec<(&str, &str)> {
+    let mut keys: Vec<(&str, &str)> = Vec::new();
+    for f in figures.iter().filter(|f| f.name == "throughput") {
+        let key = (f.label("scene"), f.label("threads"));
+        if !keys.contains(&key) {
+            keys.push(key);
+        }
+    }
+    keys
 }
 
 /// The cell of `figures` (one scene, thread count and kind or build), if
@@ -72,14 +90,8 @@ fn cell<'a>(figures: impl Iterator<Item = &'a Figure> + Clone, higher_is_better:
 /// engines' throughput, in order of appearance; columns `kinds` then `build`.
 fn rows<'a>(input: &'a Input, kinds: &[&str]) -> Vec<Row<'a>> {
     let figures = &input.result.figures;
-    let mut keys: Vec<(&str, &str)> = Vec::new();
-    for f in figures.iter().filter(|f| f.name == "throughput") {
-        let key = (f.label("scene"), f.label("threads"));
-        if !keys.contains(&key) {
-            keys.push(key);
-        }
-    }
-    keys.into_iter()
+    scenes_and_threads(figures)
+        .into_iter()
         .filter_map(|(scene, threads)| {
             let here = figures
                 .iter()
@@ -244,14 +256,7 @@ pub fn every_engine_table(inputs: &[Input]) -> Option<String> {
     out.push_str("</tr></thead><tbody>\n");
     for input in traversal {
         let figures = &input.result.figures;
-        let mut keys: Vec<(&str, &str)> = Vec::new();
-        for f in figures.iter().filter(|f| f.name == "throughput") {
-            let key = (f.label("scene"), f.label("threads"));
-            if !keys.contains(&key) {
-                keys.push(key);
-            }
-        }
-        for (scene, threads) in keys {
+        for (scene, threads) in scenes_and_threads(figures) {
             let here = |f: &&Figure| f.label("scene") == scene && f.label("threads") == threads;
             let columns = kinds
                 .iter()
@@ -260,13 +265,13 @@ pub fn every_engine_table(inputs: &[Input]) -> Option<String> {
             for (kind, name, higher_is_better) in columns {
                 let of_kind = |f: &&Figure| f.name == name && (name == "build" || f.label("rays") == kind);
                 let best_of = |engine: &str| {
-                    figures
+                    let medians = figures
                         .iter()
                         .filter(here)
                         .filter(of_kind)
                         .filter(|f| family(f.label("engine")) == engine)
-                        .map(|f| f.summary.median)
-                        .reduce(|a, b| if (a < b) == higher_is_better { b } else { a })
+                        .map(|f| f.summary.median);
+                    best_value(medians, higher_is_better)
                 };
                 let medians: Vec<Option<f64>> = families.iter().map(|e| best_of(e)).collect();
                 if medians.iter().flatten().count() < 2 {
@@ -285,19 +290,15 @@ pub fn every_engine_table(inputs: &[Input]) -> Option<String> {
                         out.push_str("<td>n/a</td>");
                         continue;
                     };
-                    let best_other = medians
+                    let others = medians
                         .iter()
                         .enumerate()
                         .filter(|&(o, _)| o != e)
-                        .filter_map(|(_, v)| *v)
-                        .reduce(|a, b| if (a < b) == higher_is_better { b } else { a });
-                    let Some(other) = best_other else {
-                        let _ = write!(out, "<td class=\"num\">{}</td>", significant(*m));
-                        continue;
-                    };
+                        .filter_map(|(_, v)| *v);
+                    // Another engine is always there: rows have two medians or more.
                     let cell = Cell {
                         raypack: *m,
-                        rival: other,
+                        rival: best_value(others, higher_is_better).unwrap_or(*m),
                         higher_is_better,
                     };
                     let _ = write!(

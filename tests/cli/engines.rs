@@ -94,6 +94,12 @@ fn a_single_ray_engine_refuses_packets_and_primitives_it_does_not_take() {
     }
 }
 
+/// A tiny `bench traversal --json` of `engines` on the generated scenes `scenes` names.
+fn tiny_traversal(engines: &str, scenes: &[&str]) -> std::process::Output {
+    let tiny = ["--size", "32x32", "--random", "2048", "--rounds", "2", "--json"];
+    raypack(&[&["bench", "traversal", "--engine", engines], scenes, &tiny[..]].concat())
+}
+
 #[test]
 fn bench_traversal_measures_every_engine_it_can_and_says_what_it_left_out() {
     let linked: Vec<&str> = single_ray_engines()
@@ -104,23 +110,7 @@ fn bench_traversal_measures_every_engine_it_can_and_says_what_it_left_out() {
         return;
     }
     let engines = format!("raypack,{}", linked.join(","));
-    let out = raypack(&[
-        "bench",
-        "traversal",
-        "--engine",
-        &engines,
-        "--generated",
-        "spheres",
-        "--sizes",
-        "300",
-        "--size",
-        "32x32",
-        "--random",
-        "2048",
-        "--rounds",
-        "2",
-        "--json",
-    ]);
+    let out = tiny_traversal(&engines, &["--generated", "spheres", "--sizes", "300"]);
     // Spheres: only raypack measured, the peers left out with their reason.
     assert!(out.status.success(), "{}", stderr(&out));
     let err = stderr(&out);
@@ -136,21 +126,7 @@ fn bench_traversal_measures_every_engine_it_can_and_says_what_it_left_out() {
         .collect();
     assert_eq!(engines_measured, ["raypack"]);
     // A mesh: every engine, the peers' packets n/a (null), their single rays hitting what raypack's hit.
-    let out = raypack(&[
-        "bench",
-        "traversal",
-        "--engine",
-        &engines,
-        "--sizes",
-        "1000",
-        "--size",
-        "32x32",
-        "--random",
-        "2048",
-        "--rounds",
-        "2",
-        "--json",
-    ]);
+    let out = tiny_traversal(&engines, &["--sizes", "1000"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     let rows = json["rows"].as_array().unwrap();
