@@ -138,6 +138,14 @@ pub fn run(args: Args) -> CliResult {
     args.engine
         .traces_lanes(args.kernel.lanes())
         .map_err(|e| CliError::BadInput(e.into()))?;
+    if args.mode == Mode::Whitted {
+        args.engine.finds_any_hit().map_err(|e| {
+            CliError::BadInput(anyhow::Error::from(e).context(format!(
+                "{} cannot render `--mode whitted` (its shadow rays); `--mode cast` needs no any-hit query",
+                args.engine
+            )))
+        })?;
+    }
     let image_file = AtomicFile::create(&args.output)?;
     let json_file = args.stats_json.as_deref().map(AtomicFile::create).transpose()?;
 

@@ -24,7 +24,8 @@ pub struct Capabilities {
     pub packet16: bool,
     /// The primitive kinds it takes.
     pub primitives: PrimitiveKinds,
-    /// Rays with a `t_min` above zero.
+    /// Rays with a `t_min` above zero (false: raypack moves such a ray's
+    /// origin to `origin + t_min·dir` for the engine, and says so).
     pub t_min: bool,
     /// Traversal counts (nodes, leaves, primitives) for the statistics.
     pub counts_work: bool,

@@ -24,6 +24,7 @@ pub mod obvhs_cwbvh;
 pub mod raypack;
 mod registry;
 pub mod single_ray;
+pub mod tinybvh;
 pub mod triangle_soup;
 mod unavailable;
 
@@ -42,6 +43,10 @@ registry::registry! {
     Obvhs => obvhs_cwbvh::ObvhsEngine,
     /// bvh, its binary SAH BVH (needs the `bvh` feature).
     Bvh => bvh_binary::BvhCrateEngine,
+    /// tinybvh, its binary BVH (needs the `tinybvh` feature).
+    Tinybvh => tinybvh::TinybvhEngine,
+    /// tinybvh, its BVH8_CPU (needs the `tinybvh` feature and AVX2 in the Rust build).
+    Tinybvh8 => tinybvh::TinybvhBvh8Engine,
 }
 
 /// Why an engine cannot do what was asked: a command refuses it (the user's
@@ -63,6 +68,18 @@ impl Engine {
                 "{self} traces single rays only, not {lanes}-wide packets (ask for single rays: --kernel scalar)"
             ))),
         }
+    }
+
+    /// Whether the engine has an any-hit (occlusion) query of its own: one
+    /// without it is n/a for shadow and AO rays, never timed through its
+    /// nearest-hit query instead.
+    pub fn finds_any_hit(self) -> Result<(), NotApplicable> {
+        if self.capabilities().any_hit {
+            return Ok(());
+        }
+        Err(NotApplicable(format!(
+            "{self} has no any-hit (occlusion) query, which shadow and AO rays need"
+        )))
     }
 
     /// Whether the engine takes every primitive of `prims`.

@@ -248,7 +248,7 @@ pub fn every_engine_table(inputs: &[Input]) -> Option<String> {
         "<section><h2>Every engine, by ray kind</h2>\n<p>Per scene, thread count and ray kind: each \
          engine's best median (over its paths and settings; Mrays/s, build in ms) on the same rays \
          in one run, and its ratio to the best of the others; n/a where an engine does not trace \
-         the scene.</p>\n<table><thead><tr><th>results</th><th>scene</th><th>threads</th><th>rays</th>",
+         the scene or the ray kind (the peers without an any-hit query: shadow and ao).</p>\n<table><thead><tr><th>results</th><th>scene</th><th>threads</th><th>rays</th>",
     );
     for engine in &families {
         let _ = write!(out, "<th>{}</th>", escape(engine));

@@ -52,7 +52,8 @@ fn each_engine_agrees_with_raypack_or_says_how_to_get_it() {
         } else {
             assert_eq!(out.status.code(), Some(2), "{engine}: {}", stderr(&out));
             let err = stderr(&out);
-            assert!(err.contains(&format!("without the `{engine}` feature")), "{err}");
+            // Which feature (and, for tinybvh8, which compiler flags) to build with.
+            assert!(err.contains("build with") && err.contains("--features "), "{err}");
             assert!(out.stdout.is_empty());
         }
     }
@@ -131,26 +132,81 @@ fn bench_traversal_measures_every_engine_it_can_and_says_what_it_left_out() {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
     let rows = json["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 1 + linked.len());
-    let hits = |row: &serde_json::Value| -> Vec<u64> {
-        row["kinds"]
+    let err = stderr(&out);
+    for row in &rows[1..] {
+        let engine = row["engine"].as_str().unwrap();
+        // An engine without an any-hit query has no shadow or AO rows, and says why.
+        let any_hit = Engine::ALL
+            .iter()
+            .any(|e| e.name() == engine && e.finds_any_hit().is_ok());
+        let kinds: Vec<&str> = row["kinds"]
             .as_array()
             .unwrap()
             .iter()
-            .map(|k| k["hits"].as_u64().unwrap())
-            .collect()
-    };
-    for row in &rows[1..] {
+            .map(|k| k["kind"].as_str().unwrap())
+            .collect();
+        for kind in ["shadow", "ao"] {
+            assert_eq!(kinds.contains(&kind), any_hit, "{engine}: {kinds:?}");
+        }
+        if !any_hit {
+            assert!(err.contains(&format!("n/a: {engine} has no any-hit")), "{err}");
+        }
         for k in row["kinds"].as_array().unwrap() {
             assert!(k["single_mrays"]["median"].as_f64().unwrap() > 0.0, "{row}");
             assert!(k["packet_mrays"].is_null(), "{row}");
         }
-        let (ours, theirs) = (hits(&rows[0]), hits(row));
-        for (a, b) in ours.iter().zip(&theirs) {
+        // Kind by kind, the peer hits what raypack hits.
+        let ours: Vec<(&str, u64)> = kinds_hits(&rows[0]);
+        for (kind, theirs) in kinds_hits(row) {
+            let (_, a) = ours
+                .iter()
+                .find(|(k, _)| *k == kind)
+                .expect("raypack traced every kind");
             assert!(
-                a.abs_diff(*b) * 1000 <= *a,
-                "{}: {ours:?} vs {theirs:?}",
-                row["engine"]
+                a.abs_diff(theirs) * 1000 <= *a,
+                "{engine} {kind}: {a} vs {theirs}"
             );
         }
+    }
+}
+
+/// Each kind of a traversal row with its hit count.
+fn kinds_hits(row: &serde_json::Value) -> Vec<(&str, u64)> {
+    row["kinds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| (k["kind"].as_str().unwrap(), k["hits"].as_u64().unwrap()))
+        .collect()
+}
+
+#[test]
+fn an_engine_without_any_hit_renders_what_needs_none_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = dir.path().join("out.png");
+    let image = image.to_str().unwrap();
+    for engine in Engine::ALL
+        .iter()
+        .filter(|e| e.linked() && e.finds_any_hit().is_err())
+    {
+        let render = |mode: &str| {
+            let args = [
+                "render",
+                "gen:tetra",
+                "--engine",
+                engine.name(),
+                "--kernel",
+                "scalar",
+            ];
+            raypack(&[&args[..], &["--size", "32x32", "--mode", mode, "-o", image]].concat())
+        };
+        let out = render("whitted");
+        assert_eq!(out.status.code(), Some(2), "{engine}: {}", stderr(&out));
+        assert!(stderr(&out).contains("no any-hit"), "{}", stderr(&out));
+        assert!(!std::path::Path::new(image).exists(), "nothing written");
+        let out = render("cast");
+        assert!(out.status.success(), "{engine}: {}", stderr(&out));
+        assert!(std::path::Path::new(image).exists());
+        std::fs::remove_file(image).unwrap();
     }
 }

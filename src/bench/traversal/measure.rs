@@ -4,6 +4,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 
+use crate::bench::rays::Query;
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::engines::{Builder, EngineVariant, TraceKind, engine_variants, pool};
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
@@ -67,6 +68,15 @@ pub fn measure(
         })
         .collect();
     anyhow::ensure!(!pairs.is_empty(), "no engine takes the scenes");
+    for &engine in engines {
+        let any_hit = setups
+            .iter()
+            .flat_map(|s| &s.kinds)
+            .any(|set| set.kind.query() == Query::AnyHit);
+        if let (Err(na), true) = (engine.finds_any_hit(), any_hit) {
+            eprintln!("note: {na}: no {engine} rows for shadow or AO rays");
+        }
+    }
     // timings[t][c]: thread count t, scene and engine c.
     let mut timings: Vec<Vec<Timings>> = thread_counts
         .iter()
@@ -208,7 +218,12 @@ fn trace_each_kind(
     } else {
         1
     };
+    // Only the queries the engine has (the rows leave the others out).
+    let any_hit = on_scene.variant.engine.finds_any_hit().is_ok();
     for (k, set) in on_scene.setup.kinds.iter().enumerate() {
+        if set.kind.query() == Query::AnyHit && !any_hit {
+            continue;
+        }
         for (v, variant) in ["single", "packet8"].into_iter().enumerate().take(paths) {
             let start = Instant::now();
             let hits = black_box(on_scene.structure.visit(TraceKind { set, packets: v == 1 }));

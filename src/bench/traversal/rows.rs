@@ -196,6 +196,8 @@ fn row(
         .kinds
         .iter()
         .enumerate()
+        // A kind the engine has no query for was not traced: no row (the bench said why).
+        .filter(|&(k, _)| traced(&timing.per_ray[k][0]))
         .map(|(k, set)| -> anyhow::Result<KindRow> {
             let [single, packet] = &timing.per_ray[k];
             // Per kind, the first scene's sets are the same kinds in the same order.

@@ -7,7 +7,7 @@ use clap::Args;
 
 use crate::accel::AccelKind;
 use crate::bench::figure::{Better, Figure};
-use crate::bench::rays::{KindRays, RayKind, RaySource, default_light};
+use crate::bench::rays::{KindRays, Query, RayKind, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::scene_bounds;
@@ -173,11 +173,14 @@ impl MeasurementPlan<'_> {
         for (kind, rays, variants) in kinds {
             let mut all = Vec::new();
             for (e, units_of) in engines.iter().enumerate() {
-                // Only the kernels the engine traces as such (see `run`'s notes).
+                // Only the kernels the engine traces as such, and only the
+                // queries it has (see `run`'s notes).
+                let engine = self.engines[e];
+                let answers = kind.query() == Query::Nearest || engine.finds_any_hit().is_ok();
                 let traced: Vec<Variant> = variants
                     .iter()
                     .copied()
-                    .filter(|v| self.engines[e].traces_lanes(v.kernel.lanes()).is_ok())
+                    .filter(|v| answers && engine.traces_lanes(v.kernel.lanes()).is_ok())
                     .collect();
                 all.extend(units_of(rays, &traced, e)?);
             }
@@ -273,6 +276,16 @@ pub fn run(args: SceneArgs) -> CliResult {
             if let Err(na) = engine.traces_lanes(kernel.lanes()) {
                 left_out.push(format!("{na}: no {engine} {} rows", kernel.name()));
             }
+        }
+    }
+    for &engine in &engines {
+        let any_hit: Vec<&str> = others
+            .iter()
+            .filter(|k| k.query() == Query::AnyHit)
+            .map(|k| k.name())
+            .collect();
+        if let (Err(na), false) = (engine.finds_any_hit(), any_hit.is_empty()) {
+            left_out.push(format!("{na}: no {engine} {} rows", any_hit.join(", ")));
         }
     }
     for note in &left_out {
