@@ -3,6 +3,7 @@
 //! JSON result, and baselines to compare runs against.
 
 pub mod baseline;
+pub mod callgrind;
 pub mod change;
 pub mod figure;
 pub mod kernels;

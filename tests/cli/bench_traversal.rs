@@ -148,3 +148,38 @@ fn unreadable_scene_file_exits_with_code_2() {
     assert!(out.stdout.is_empty());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn instructions_per_ray_are_counted_under_callgrind_or_said_to_be_na() {
+    let valgrind = std::process::Command::new("valgrind").arg("--version").output();
+    let has_valgrind = valgrind.is_ok_and(|o| o.status.success());
+    let args = [
+        &TINY_TRAVERSAL[..],
+        &["--threads", "1", "--instructions", "--json"],
+    ]
+    .concat();
+    let out = raypack(&args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let result: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let kinds = result["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|r| r["kinds"].as_array().unwrap());
+    for k in kinds {
+        let per_ray = &k["instructions_per_ray"];
+        if !has_valgrind {
+            assert!(per_ray.is_null(), "{k}");
+            continue;
+        }
+        // Both paths of raypack traced and counted: a ray costs tens to
+        // thousands of instructions on a mesh of a few hundred triangles.
+        for path in 0..2 {
+            let n = per_ray[path].as_f64().unwrap();
+            assert!((20.0..20_000.0).contains(&n), "{} path {path}: {n}", k["kind"]);
+        }
+    }
+    if !has_valgrind {
+        assert!(stderr(&out).contains("instructions per ray n/a: valgrind is not installed"));
+    }
+}

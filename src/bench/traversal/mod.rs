@@ -18,6 +18,7 @@
 //! round by round ([`Summary::paired_ratio`](crate::statistics::Summary::paired_ratio)).
 
 mod engines;
+mod instructions;
 mod measure;
 mod measured;
 mod rows;
@@ -25,6 +26,7 @@ mod setup;
 mod trace;
 
 pub use engines::{Builder, EngineVariant};
+pub use instructions::{count_instructions, instructions_per_ray};
 pub use measure::measure;
 pub use rows::{KindRow, TraversalRow};
 pub use setup::{TraversalSetup, scene_bounds};

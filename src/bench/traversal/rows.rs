@@ -128,6 +128,10 @@ pub struct KindRow {
     /// when Embree was measured alongside: single rays, packets.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vs_embree: Option<[Summary; 2]>,
+    /// Instructions per ray at one thread, counted by callgrind (`bench
+    /// traversal --instructions`): single rays, packets (None where not traced).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instructions_per_ray: Option<[Option<f64>; 2]>,
 }
 
 impl KindRow {
@@ -228,6 +232,7 @@ fn row(
                     ]),
                     None => None,
                 },
+                instructions_per_ray: None,
             })
         })
         .collect::<anyhow::Result<_>>()?;

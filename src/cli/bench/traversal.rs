@@ -3,9 +3,13 @@
 
 use clap::Args;
 
+use crate::bench::callgrind;
 use crate::bench::rays::RayKind;
 use crate::bench::traversal::EngineVariant;
-use crate::bench::traversal::{Builder, KindRow, TraversalRow, TraversalSetup, measure, scene_bounds};
+use crate::bench::traversal::{
+    Builder, KindRow, TraversalRow, TraversalSetup, count_instructions, instructions_per_ray, measure,
+    scene_bounds,
+};
 use crate::cli::args::{load_scene, parse_size};
 use crate::cli::bench::output::{Output, Run, figure};
 use crate::cli::error::{CliError, CliResult};
@@ -55,21 +59,89 @@ pub struct TraversalArgs {
     /// choice for the CPU, AVX-512 where there is one).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [EmbreeIsa::Avx2, EmbreeIsa::Default])]
     pub embree_isa: Vec<EmbreeIsa>,
+    /// Also count the instructions per ray of every engine, kind and path, at
+    /// one thread: the run repeats under callgrind (valgrind), which is slow,
+    /// and executes AVX2 code there (valgrind has no AVX-512).
+    #[arg(long)]
+    pub instructions: bool,
     /// Output and baselines.
     #[command(flatten)]
     pub output: Output,
 }
 
-/// Measure and report.
+/// Measure and report (or, in the run under callgrind that `--instructions`
+/// makes, count instructions and report nothing).
 pub fn run(args: TraversalArgs) -> CliResult {
+    if callgrind::running_under_valgrind() && std::env::var_os(callgrind::CHILD_VARIABLE).is_some() {
+        let setups = setups(&args)?;
+        return count_instructions(&setups, &args.engine, &args.embree_isa).map_err(CliError::Failed);
+    }
     let run = Run::start(&args.output, "traversal")?;
     // Ask for the engines before generating scenes: Embree may be missing
     // (the devices go at the end of the statement: `measure` makes its own).
     let first_threads = args.threads.first().copied().unwrap_or(1);
     Builder::new(&args.engine, &args.embree_isa, first_threads).map_err(CliError::BadInput)?;
+    // Where instructions cannot be counted, say why before measuring.
+    let no_counts = args.instructions.then(callgrind::unavailable).flatten();
+    if let Some(why) = &no_counts {
+        eprintln!("note: instructions per ray n/a: {why}");
+    }
+    let setups = setups(&args)?;
+    // The environment's Embree device (in `finish`) comes after the measuring ones.
+    let mut rows = measure(
+        &setups,
+        &args.engine,
+        &args.embree_isa,
+        &args.threads,
+        args.rounds.max(1),
+        &run.hooks,
+    )
+    .map_err(CliError::Failed)?;
+    if args.instructions && no_counts.is_none() {
+        let own_args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
+        let counts = callgrind::count_in_child(&own_args).map_err(CliError::Failed)?;
+        instructions_per_ray(&mut rows, &setups, &counts);
+    }
+    let figures = rows.iter().flat_map(TraversalRow::figures).collect();
+    let embree = args
+        .engine
+        .contains(&Engine::Embree)
+        .then(|| args.embree_isa.first().map(|isa| isa.config(first_threads)))
+        .flatten();
+    run.finish(rows, figures, embree.as_deref(), |rows| {
+        // The rows come per thread count in the order given (see `measure`).
+        let mut thread_counts: Vec<usize> = rows.iter().map(|r| r.threads).collect();
+        thread_counts.dedup();
+        for threads in thread_counts {
+            let of_threads: Vec<TraversalRow> =
+                rows.iter().filter(|r| r.threads == threads).cloned().collect();
+            print_traversal(&of_threads)?;
+        }
+        if args.instructions {
+            outln!(
+                "(instructions per ray: {})",
+                no_counts.as_deref().map_or(
+                    "counted by callgrind, one thread, AVX2 code (valgrind has no AVX-512)".into(),
+                    |why| format!("n/a, {why}")
+                )
+            )?;
+        }
+        outln!(
+            "({} rounds after a warm-up, thread counts, scenes, engines, ray kinds and variants \
+             interleaved round by round, backwards in odd rounds, builds too; ratios from the rounds \
+             paired; random rays: {} from the scene box, uniform directions; secondary rays from the \
+             primary hits; transparent huge pages: {})",
+            args.rounds,
+            args.random,
+            crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
+        )
+    })
+}
 
+/// The scenes of `args` with their rays: its SCENE, or the generated family.
+fn setups(args: &TraversalArgs) -> Result<Vec<TraversalSetup>, CliError> {
     let (width, height) = args.size;
-    let setups: Vec<TraversalSetup> = match &args.scene {
+    Ok(match &args.scene {
         Some(path) => {
             let (scene, _) = load_scene(path)?;
             let camera = match scene.camera {
@@ -97,41 +169,6 @@ pub fn run(args: TraversalArgs) -> CliResult {
                 TraversalSetup::generated(&args.generated, n, args.size, args.random, &args.rays)
             })
             .collect(),
-    };
-    // The environment's Embree device (in `finish`) comes after the measuring ones.
-    let rows = measure(
-        &setups,
-        &args.engine,
-        &args.embree_isa,
-        &args.threads,
-        args.rounds.max(1),
-        &run.hooks,
-    )
-    .map_err(CliError::Failed)?;
-    let figures = rows.iter().flat_map(TraversalRow::figures).collect();
-    let embree = args
-        .engine
-        .contains(&Engine::Embree)
-        .then(|| args.embree_isa.first().map(|isa| isa.config(first_threads)))
-        .flatten();
-    run.finish(rows, figures, embree.as_deref(), |rows| {
-        // The rows come per thread count in the order given (see `measure`).
-        let mut thread_counts: Vec<usize> = rows.iter().map(|r| r.threads).collect();
-        thread_counts.dedup();
-        for threads in thread_counts {
-            let of_threads: Vec<TraversalRow> =
-                rows.iter().filter(|r| r.threads == threads).cloned().collect();
-            print_traversal(&of_threads)?;
-        }
-        outln!(
-            "({} rounds after a warm-up, thread counts, scenes, engines, ray kinds and variants \
-             interleaved round by round, backwards in odd rounds, builds too; ratios from the rounds \
-             paired; random rays: {} from the scene box, uniform directions; secondary rays from the \
-             primary hits; transparent huge pages: {})",
-            args.rounds,
-            args.random,
-            crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
-        )
     })
 }
 
@@ -153,10 +190,14 @@ fn print_traversal(rows: &[TraversalRow]) -> CliResult {
             row.resolution.1,
         )?;
         for k in &row.kinds {
-            let counts = match (&k.single_stats, &k.packet_stats) {
+            let mut counts = match (&k.single_stats, &k.packet_stats) {
                 (Some(s), Some(p)) => format!("  [single {}; packet {}]", s.caption(), p.caption()),
                 _ => String::new(),
             };
+            if let Some(per_ray) = k.instructions_per_ray {
+                let [single, packet] = per_ray.map(|n| n.map_or("n/a".into(), |n| format!("{n:.0}")));
+                counts += &format!("  instructions/ray single {single} packet8 {packet}");
+            }
             outln!(
                 "  {:<8} {:>8} rays {:>5.1}% hit: single {:>15} packet8 {:>15} Mrays/s ({}){counts}",
                 k.kind.name(),
