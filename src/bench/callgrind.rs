@@ -3,7 +3,7 @@
 //! pass them through): the process runs again under
 //! `valgrind --tool=callgrind`, and marks each stretch to count with
 //! callgrind's client requests, [`zero_stats`] before and [`dump_stats_at`]
-//! after; [`count_in_child`] reads back each stretch's total by its label.
+//! after; [`count_this_command`] reads back each stretch's total by its label.
 //! Outside valgrind a client request is a few instructions that change
 //! nothing.
 //!
@@ -17,7 +17,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 
 /// The environment variable that tells a child run it is the counted one.
-pub const CHILD_VARIABLE: &str = "RAYPACK_CALLGRIND_CHILD";
+const CHILD_VARIABLE: &str = "RAYPACK_CALLGRIND_CHILD";
 
 /// Valgrind's client request codes used here (valgrind.h, callgrind.h).
 mod request {
@@ -68,6 +68,12 @@ pub fn running_under_valgrind() -> bool {
     client_request(0, request::RUNNING_ON_VALGRIND, 0) != 0
 }
 
+/// Whether this process is the run under callgrind that [`count_this_command`]
+/// started (which counts and reports nothing else).
+pub fn is_counting_child() -> bool {
+    std::env::var_os(CHILD_VARIABLE).is_some() && running_under_valgrind()
+}
+
 /// Reset callgrind's counts: what follows is counted from zero.
 pub fn zero_stats() {
     client_request(0, request::ZERO_STATS, 0);
@@ -92,10 +98,22 @@ pub fn unavailable() -> Option<String> {
     }
 }
 
+/// `count_in_child` with this process's own arguments: the same command
+/// again, under callgrind.
+pub fn count_this_command() -> anyhow::Result<Vec<(String, u64)>> {
+    count_in_child(&std::env::args_os().skip(1).collect::<Vec<_>>())
+}
+
+/// The instructions per ray of the dump `label` of `counts`, over `rays` rays.
+pub fn per_ray(counts: &[(String, u64)], label: &str, rays: u64) -> Option<f64> {
+    let (_, count) = counts.iter().find(|(l, _)| l == label)?;
+    Some(*count as f64 / rays.max(1) as f64)
+}
+
 /// Run this program again with `args` under callgrind (with
 /// [`CHILD_VARIABLE`] set), and return the instructions of each dump it
 /// made with [`dump_stats_at`], by label, in the order made.
-pub fn count_in_child(args: &[OsString]) -> anyhow::Result<Vec<(String, u64)>> {
+fn count_in_child(args: &[OsString]) -> anyhow::Result<Vec<(String, u64)>> {
     let dir = tempfile::tempdir()?;
     let out_file = dir.path().join("callgrind.out");
     let exe = std::env::current_exe()?;

@@ -177,3 +177,40 @@ fn generated_scenes_are_accepted_and_bad_specs_rejected() {
         assert!(err.contains(bad.split(':').nth(1).unwrap()), "{bad}: {err}");
     }
 }
+
+#[test]
+fn instructions_per_ray_are_counted_once_per_variant_or_said_to_be_na() {
+    let valgrind = std::process::Command::new("valgrind").arg("--version").output();
+    let has_valgrind = valgrind.is_ok_and(|o| o.status.success());
+    let result = bench_scene_json(&[
+        "--size",
+        "32x32",
+        "--runs",
+        "1",
+        "--threads",
+        "1,2",
+        "--kernel",
+        "scalar,packet8",
+        "--rays",
+        "primary,ao",
+        "--instructions",
+    ]);
+    let rows = result["rows"].as_array().expect("an array of rows");
+    assert_eq!(rows.len(), 8);
+    for r in rows {
+        let n = &r["instructions_per_ray"];
+        if !has_valgrind {
+            assert!(n.is_null(), "{r}");
+            continue;
+        }
+        let n = n.as_f64().expect("a count per row");
+        assert!((20.0..50_000.0).contains(&n), "{r}");
+        // Counted on one thread: a variant's count is the same at either thread count.
+        let same = rows.iter().filter(|o| {
+            o["kernel"] == r["kernel"] && o["rays_kind"] == r["rays_kind"] && o["threads"] != r["threads"]
+        });
+        for o in same {
+            assert_eq!(o["instructions_per_ray"].as_f64(), Some(n), "{r} {o}");
+        }
+    }
+}

@@ -72,11 +72,7 @@ pub fn instructions_per_ray(rows: &mut [TraversalRow], setups: &[TraversalSetup]
         };
         let variant = row.variant();
         for k in &mut row.kinds {
-            let per_ray = |path: &str| {
-                let label = label(s, variant, k.kind, path);
-                let (_, count) = counts.iter().find(|(l, _)| *l == label)?;
-                Some(*count as f64 / k.rays.max(1) as f64)
-            };
+            let per_ray = |path| callgrind::per_ray(counts, &label(s, variant, k.kind, path), k.rays as u64);
             k.instructions_per_ray = Some(PATHS.map(per_ray));
         }
     }

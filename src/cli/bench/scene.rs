@@ -6,6 +6,7 @@ use std::path::Path;
 use clap::Args;
 
 use crate::accel::AccelKind;
+use crate::bench::callgrind;
 use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{KindRays, Query, RayKind, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
@@ -54,6 +55,11 @@ pub struct SceneArgs {
     /// or 4×4 (packet16).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = RayKind::ALL)]
     pub rays: Vec<RayKind>,
+    /// Also count the instructions per ray of every engine, ray kind, kernel
+    /// and block, at one thread: the run repeats under callgrind (valgrind),
+    /// which is slow, and executes AVX2 code there (valgrind has no AVX-512).
+    #[arg(long)]
+    pub instructions: bool,
     /// Output and baselines.
     #[command(flatten)]
     pub output: Output,
@@ -109,6 +115,9 @@ pub struct SceneRow {
     pub primitives: usize,
     /// Acceleration structure build, ms.
     pub setup_ms: f64,
+    /// Instructions per ray at one thread, counted by callgrind (`--instructions`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instructions_per_ray: Option<f64>,
 }
 
 impl SceneRow {
@@ -158,9 +167,9 @@ struct MeasurementPlan<'a> {
 type UnitsOf<'x> = dyn Fn(Rays<'x>, &[Variant], usize) -> Result<Vec<Unit<'x>>, String> + 'x;
 
 impl MeasurementPlan<'_> {
-    /// Per ray kind, the variants of every engine of `engines` interleaved in one set of rounds.
-    fn measure<'x>(&'x self, engines: &[&UnitsOf<'x>]) -> Result<Vec<(usize, RayKind, Timing)>, String> {
-        let mut kinds: Vec<(RayKind, Rays<'x>, &[Variant])> = Vec::new();
+    /// The ray kinds measured, each with its rays and its variants.
+    fn kinds(&self) -> Vec<(RayKind, Rays<'_>, &[Variant])> {
+        let mut kinds: Vec<(RayKind, Rays<'_>, &[Variant])> = Vec::new();
         if let Some(frame) = self.frame {
             kinds.push((RayKind::Primary, Rays::Primary(frame), self.variants));
         }
@@ -169,26 +178,73 @@ impl MeasurementPlan<'_> {
                 .iter()
                 .map(|s| (s.kind, Rays::OfKind(s), self.kind_variants)),
         );
+        kinds
+    }
+
+    /// The variants of `variants` that engine `e` traces for `kind`: only the
+    /// kernels it traces as such, and only the queries it has (see `run`'s notes).
+    fn traced(&self, e: usize, kind: RayKind, variants: &[Variant]) -> Vec<Variant> {
+        let engine = self.engines[e];
+        let answers = kind.query() == Query::Nearest || engine.finds_any_hit().is_ok();
+        variants
+            .iter()
+            .copied()
+            .filter(|v| answers && engine.traces_lanes(v.kernel.lanes()).is_ok())
+            .collect()
+    }
+
+    /// Per ray kind, the variants of every engine of `engines` interleaved in one set of rounds.
+    fn measure<'x>(&'x self, engines: &[&UnitsOf<'x>]) -> Result<Vec<(usize, RayKind, Timing)>, String> {
         let mut out = Vec::new();
-        for (kind, rays, variants) in kinds {
+        for (kind, rays, variants) in self.kinds() {
             let mut all = Vec::new();
             for (e, units_of) in engines.iter().enumerate() {
-                // Only the kernels the engine traces as such, and only the
-                // queries it has (see `run`'s notes).
-                let engine = self.engines[e];
-                let answers = kind.query() == Query::Nearest || engine.finds_any_hit().is_ok();
-                let traced: Vec<Variant> = variants
-                    .iter()
-                    .copied()
-                    .filter(|v| answers && engine.traces_lanes(v.kernel.lanes()).is_ok())
-                    .collect();
-                all.extend(units_of(rays, &traced, e)?);
+                all.extend(units_of(rays, &self.traced(e, kind, variants), e)?);
             }
             let timings = interleave(&all, self.engines, self.runs, self.hooks, rays.count())?;
             out.extend(all.iter().zip(timings).map(|(u, t)| (u.engine, kind, t)));
         }
         Ok(out)
     }
+
+    /// In the run under callgrind (`--instructions`): every engine's variants
+    /// of every ray kind traced once on one thread, each between a reset of
+    /// callgrind's counts and a dump named by [`count_label`] (a variant at
+    /// several thread counts once).
+    fn count_instructions<'x>(&'x self, engines: &[&UnitsOf<'x>]) -> Result<(), String> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .map_err(|e| e.to_string())?;
+        Engine::prepare_threads(self.engines, &pool);
+        let mut counted: Vec<String> = Vec::new();
+        for (kind, rays, variants) in self.kinds() {
+            for (e, units_of) in engines.iter().enumerate() {
+                for unit in units_of(rays, &self.traced(e, kind, variants), e)? {
+                    let label = count_label(self.engines[e], kind, unit.variant);
+                    if counted.contains(&label) {
+                        continue;
+                    }
+                    callgrind::zero_stats();
+                    std::hint::black_box((unit.trace)(&pool));
+                    callgrind::dump_stats_at(&label);
+                    counted.push(label);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The name of the count of `engine`'s `variant` on `kind` rays (its thread
+/// count aside: counts are taken on one thread).
+fn count_label(engine: Engine, kind: RayKind, variant: Variant) -> String {
+    format!(
+        "{engine}/{}/{}/{}",
+        kind.name(),
+        variant.kernel.name(),
+        variant.block.name()
+    )
 }
 
 /// An engine's structure as a maker of timed units ([`units`]) for the plan.
@@ -205,6 +261,11 @@ impl<'s> WithAccel<'s> for UnitsJob {
 /// Measure and report.
 pub fn run(args: SceneArgs) -> CliResult {
     let run = Run::start(&args.output, "scene")?;
+    // Where instructions cannot be counted, say why before measuring.
+    let no_counts = args.instructions.then(callgrind::unavailable).flatten();
+    if let Some(why) = &no_counts {
+        eprintln!("note: instructions per ray n/a: {why}");
+    }
     let (scene, _) = load_scene(&args.scene)?;
     let camera = scene_camera(&scene, Path::new(&args.scene), args.size)?;
     let frame = PrimaryFrame::new(&camera, args.tile);
@@ -320,9 +381,16 @@ pub fn run(args: SceneArgs) -> CliResult {
     let timings = {
         let makers: Vec<Box<UnitsOf<'_>>> = built.iter().map(|b| b.visit(UnitsJob)).collect();
         let makers: Vec<&UnitsOf<'_>> = makers.iter().map(|m| &**m).collect();
-        plan.measure(&makers)
-    }
-    .map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
+        let failed = |e: String| CliError::Failed(anyhow::anyhow!(e));
+        if callgrind::is_counting_child() {
+            return plan.count_instructions(&makers).map_err(failed);
+        }
+        plan.measure(&makers).map_err(failed)?
+    };
+    let counts = match &no_counts {
+        None if args.instructions => Some(callgrind::count_this_command().map_err(CliError::Failed)?),
+        _ => None,
+    };
     let measured: Vec<Measured> = timings
         .into_iter()
         .map(|(e, kind, timing)| Measured {
@@ -359,6 +427,9 @@ pub fn run(args: SceneArgs) -> CliResult {
                 runs: args.runs,
                 primitives: scene.primitives.len(),
                 setup_ms: 1e3 * m.setup_seconds,
+                instructions_per_ray: counts.as_ref().and_then(|c| {
+                    callgrind::per_ray(c, &count_label(m.engine, m.kind, m.timing.variant), m.timing.rays)
+                }),
             })
         })
         .collect::<Result<Vec<_>, StatsError>>()
@@ -380,7 +451,17 @@ pub fn run(args: SceneArgs) -> CliResult {
             args.tile,
             args.runs
         )?;
-        print_table(rows)
+        print_table(rows)?;
+        if args.instructions {
+            outln!(
+                "(instructions per ray: {})",
+                no_counts.as_deref().map_or(
+                    "counted by callgrind, one thread, AVX2 code (valgrind has no AVX-512)".into(),
+                    |why| format!("n/a, {why}")
+                )
+            )?;
+        }
+        Ok(())
     })
 }
 
@@ -424,7 +505,7 @@ fn ratios(m: &Measured, all: &[Measured]) -> Result<(Summary, Summary, Option<Su
 
 fn print_table(rows: &[SceneRow]) -> CliResult {
     outln!(
-        "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9} {:>15} {:>15} {:>15}",
+        "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9} {:>15} {:>15} {:>15} {:>10}",
         "rays",
         "engine",
         "kernel",
@@ -434,12 +515,16 @@ fn print_table(rows: &[SceneRow]) -> CliResult {
         "median ms",
         "vs first",
         "vs fewest t",
-        "vs embree"
+        "vs embree",
+        "instr/ray"
     )?;
     for r in rows {
         let vs_embree = r.vs_embree.map_or(String::new(), |x| figure(&x, 2, "x"));
+        let instructions = r
+            .instructions_per_ray
+            .map_or(String::new(), |n| format!("{n:.0}"));
         outln!(
-            "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9.2} {:>15} {:>15} {:>15}",
+            "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9.2} {:>15} {:>15} {:>15} {:>10}",
             r.rays_kind,
             r.engine,
             r.kernel,
@@ -449,7 +534,8 @@ fn print_table(rows: &[SceneRow]) -> CliResult {
             r.rays as f64 / r.mrays_per_s.median / 1e3,
             figure(&r.ratio, 2, "x"),
             figure(&r.vs_fewest_threads, 2, "x"),
-            vs_embree
+            vs_embree,
+            instructions
         )?;
     }
     Ok(())

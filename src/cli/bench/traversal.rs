@@ -72,7 +72,7 @@ pub struct TraversalArgs {
 /// Measure and report (or, in the run under callgrind that `--instructions`
 /// makes, count instructions and report nothing).
 pub fn run(args: TraversalArgs) -> CliResult {
-    if callgrind::running_under_valgrind() && std::env::var_os(callgrind::CHILD_VARIABLE).is_some() {
+    if callgrind::is_counting_child() {
         let setups = setups(&args)?;
         return count_instructions(&setups, &args.engine, &args.embree_isa).map_err(CliError::Failed);
     }
@@ -98,8 +98,7 @@ pub fn run(args: TraversalArgs) -> CliResult {
     )
     .map_err(CliError::Failed)?;
     if args.instructions && no_counts.is_none() {
-        let own_args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
-        let counts = callgrind::count_in_child(&own_args).map_err(CliError::Failed)?;
+        let counts = callgrind::count_this_command().map_err(CliError::Failed)?;
         instructions_per_ray(&mut rows, &setups, &counts);
     }
     let figures = rows.iter().flat_map(TraversalRow::figures).collect();
