@@ -98,6 +98,15 @@ pub fn unavailable() -> Option<String> {
     }
 }
 
+/// How instructions were counted, for a command's closing line: by
+/// callgrind, or n/a for the reason `unavailable` gives ([`unavailable`]).
+pub fn counted_how(unavailable: Option<&str>) -> String {
+    unavailable.map_or(
+        "counted by callgrind, one thread, AVX2 code (valgrind has no AVX-512)".into(),
+        |why| format!("n/a, {why}"),
+    )
+}
+
 /// `count_in_child` with this process's own arguments: the same command
 /// again, under callgrind.
 pub fn count_this_command() -> anyhow::Result<Vec<(String, u64)>> {

@@ -140,36 +140,41 @@ mod linked {
         soup.triangles.iter().flat_map(|t| t.map(corner)).collect()
     }
 
-    /// tinybvh's binary BVH over a scene's triangles, which it reads in place.
-    pub struct WaldScene {
-        /// The tree; declared before `positions`, so dropped first.
-        bvh: Option<bvh::BVH<'static>>,
-        /// The triangles' corners, borrowed by `bvh` (a `Vec`'s heap block
-        /// stays where it is when the struct moves).
+    /// One of tinybvh's trees over a scene's triangles: `T` the tree type.
+    pub struct TinyScene<T> {
+        /// The tree (None over no triangles: tinybvh has no empty tree);
+        /// declared before `positions`, so dropped first.
+        tree: Option<T>,
+        /// The triangles' corners, for a tree that reads them in place (the
+        /// binary BVH borrows them: a `Vec`'s heap block stays where it is
+        /// when the struct moves); empty for one that copied them.
         _positions: Vec<[f32; 4]>,
         /// The scene primitive of each triangle.
         prims: Vec<u32>,
     }
 
-    // SAFETY: `BVH::Intersect` is a `const` C++ member that reads the tree and
-    // the positions and writes only the ray it is given; nothing mutates the
-    // tree after the build, so threads may share it and move it.
-    unsafe impl Send for WaldScene {}
-    // SAFETY: as for `Send`: shared use is reads only.
-    unsafe impl Sync for WaldScene {}
+    /// tinybvh's binary BVH over a scene's triangles, which it reads in place.
+    pub type WaldScene = TinyScene<bvh::BVH<'static>>;
 
-    impl SingleRayQueries for WaldScene {
+    // SAFETY: tinybvh's `Intersect` members are `const`: they read the tree
+    // (and the positions) and write only the ray they are given; nothing
+    // mutates a tree after its build, so threads may share it and move it.
+    unsafe impl<T: Intersector> Send for TinyScene<T> {}
+    // SAFETY: as for `Send`: shared use is reads only.
+    unsafe impl<T: Intersector> Sync for TinyScene<T> {}
+
+    impl<T: Intersector> SingleRayQueries for TinyScene<T> {
         fn nearest(&self, ray: &Ray) -> Hit {
-            match &self.bvh {
-                Some(bvh) => nearest(ray, &self.prims, |r| {
-                    bvh.intersect(r);
+            match &self.tree {
+                Some(tree) => nearest(ray, &self.prims, |r| {
+                    tree.intersect(r);
                 }),
                 None => Hit::none(ray),
             }
         }
 
         /// The nearest hit, found or not: commands show any-hit work as n/a
-        /// for this engine ([`CAPABILITIES`]), so this answers, and is never timed.
+        /// for tinybvh ([`CAPABILITIES`]), so this answers, and is never timed.
         fn blocked(&self, ray: &Ray) -> bool {
             self.nearest(ray).is_hit()
         }
@@ -197,8 +202,8 @@ mod linked {
                 .then(|| bvh::BVH::new(view.into()))
                 .transpose()
                 .map_err(|e| anyhow::anyhow!("tinybvh: {e}"))?;
-            Ok(SingleRays(WaldScene {
-                bvh,
+            Ok(SingleRays(TinyScene {
+                tree: bvh,
                 _positions: positions,
                 prims: soup.prims,
             }))
@@ -214,7 +219,7 @@ mod linked {
                 settings: format!(
                     "tinybvh-rs {} (tinybvh 1.6.8), BVH (Wald layout) from its binned SAH build, {} nodes, single rays, nearest hits only, t_min as a moved origin",
                     crate::environment::peer_version("tinybvh-rs"),
-                    built.0.bvh.as_ref().map_or(0, |b| b.nodes().len())
+                    built.0.tree.as_ref().map_or(0, |b| b.nodes().len())
                 ),
                 translation: None,
             }
@@ -223,48 +228,19 @@ mod linked {
 
     #[cfg(target_feature = "avx2")]
     mod bvh8 {
-        use tinybvh_rs::{Intersector, bvh, bvh8_cpu, mbvh};
+        use tinybvh_rs::{bvh, bvh8_cpu, mbvh};
 
         use crate::engines::capabilities::Capabilities;
         use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
-        use crate::engines::single_ray::{SingleRayQueries, SingleRays};
-        use crate::engines::tinybvh::linked::{nearest, positions};
+        use crate::engines::single_ray::SingleRays;
+        use crate::engines::tinybvh::linked::{TinyScene, positions};
         use crate::engines::tinybvh::{CAPABILITIES, TinybvhBvh8Engine};
         use crate::engines::triangle_soup::TriangleSoup;
         use crate::geometry::Primitive;
-        use crate::ray::{Hit, Ray};
 
         /// tinybvh's BVH8_CPU over a scene's triangles (which it copies into
         /// its leaves: the binary tree and the positions it came from go).
-        pub struct Bvh8Scene {
-            /// The tree; None over no triangles.
-            bvh: Option<bvh8_cpu::BVH>,
-            /// The scene primitive of each triangle.
-            prims: Vec<u32>,
-        }
-
-        // SAFETY: `BVH8_CPU::Intersect` is a `const` C++ member that reads the
-        // tree and writes only the ray it is given; nothing mutates the tree
-        // after the build.
-        unsafe impl Send for Bvh8Scene {}
-        // SAFETY: as for `Send`: shared use is reads only.
-        unsafe impl Sync for Bvh8Scene {}
-
-        impl SingleRayQueries for Bvh8Scene {
-            fn nearest(&self, ray: &Ray) -> Hit {
-                match &self.bvh {
-                    Some(bvh) => nearest(ray, &self.prims, |r| {
-                        bvh.intersect(r);
-                    }),
-                    None => Hit::none(ray),
-                }
-            }
-
-            /// The nearest hit, found or not (as the binary tree's): never timed.
-            fn blocked(&self, ray: &Ray) -> bool {
-                self.nearest(ray).is_hit()
-            }
-        }
+        pub type Bvh8Scene = TinyScene<bvh8_cpu::BVH>;
 
         impl EngineModule for TinybvhBvh8Engine {
             const NAME: &'static str = "tinybvh8";
@@ -289,8 +265,9 @@ mod linked {
                     let wide = mbvh::BVH::new(&binary);
                     Some(bvh8_cpu::BVH::new(&wide).map_err(|e| anyhow::anyhow!("tinybvh8: {e}"))?)
                 };
-                Ok(SingleRays(Bvh8Scene {
-                    bvh,
+                Ok(SingleRays(TinyScene {
+                    tree: bvh,
+                    _positions: Vec::new(),
                     prims: soup.prims,
                 }))
             }

@@ -119,10 +119,7 @@ pub fn run(args: TraversalArgs) -> CliResult {
         if args.instructions {
             outln!(
                 "(instructions per ray: {})",
-                no_counts.as_deref().map_or(
-                    "counted by callgrind, one thread, AVX2 code (valgrind has no AVX-512)".into(),
-                    |why| format!("n/a, {why}")
-                )
+                callgrind::counted_how(no_counts.as_deref())
             )?;
         }
         outln!(
