@@ -24,8 +24,8 @@ const RANDOM_RAYS: usize = 1 << 18;
 fn bench_setup(c: &mut Criterion, setup: &TraversalSetup) {
     let mut group = c.benchmark_group(&setup.name);
     group.sample_size(10);
-    group.bench_function("build", |b| b.iter(|| Bvh::new(&setup.prims)));
-    let bvh = Bvh::new(&setup.prims);
+    group.bench_function("build", |b| b.iter(|| Bvh::new(&setup.scene.primitives)));
+    let bvh = Bvh::new(&setup.scene.primitives);
     for set in &setup.kinds {
         group.throughput(Throughput::Elements(set.rays.len() as u64));
         group.bench_function(BenchmarkId::new(set.kind.name(), "single"), |b| {
@@ -61,19 +61,12 @@ fn dragon(c: &mut Criterion) {
     let scene = raypack::scene::load(path).unwrap_or_else(|e| panic!("{e}"));
     let camera = match scene.camera {
         Some(spec) => spec.camera_at(RESOLUTION, RESOLUTION).expect("a valid camera"),
-        None => framing_camera(scene_bounds(&scene.primitives), RESOLUTION, RESOLUTION),
+        None => framing_camera(scene_bounds(&scene), RESOLUTION, RESOLUTION),
     };
     let light = scene.lights.first().map(|l| l.position);
     bench_setup(
         c,
-        &TraversalSetup::new(
-            "dragon",
-            scene.primitives,
-            &camera,
-            light,
-            RANDOM_RAYS,
-            &RayKind::ALL,
-        ),
+        &TraversalSetup::new("dragon", scene, &camera, light, RANDOM_RAYS, &RayKind::ALL),
     );
 }
 

@@ -107,9 +107,9 @@ impl WithAccel<'_> for ColdWarm<'_> {
 
 fn run(args: &Args) -> anyhow::Result<()> {
     let scene = raypack::scene::load(&args.scene)?;
-    let camera = framing_camera(scene_bounds(&scene.primitives), args.size, args.size);
+    let camera = framing_camera(scene_bounds(&scene), args.size, args.size);
     // 2¹⁸ random rays, as `scripts/report.sh` measures them.
-    let setup = TraversalSetup::new("scene", scene.primitives, &camera, None, 262_144, &[args.kind]);
+    let setup = TraversalSetup::new("scene", scene, &camera, None, 262_144, &[args.kind]);
     let set = setup
         .rays_of(args.kind)
         .ok_or_else(|| anyhow::anyhow!("no rays of kind {}", args.kind.name()))?;
@@ -137,7 +137,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
     ];
     let structures = variants
         .iter()
-        .map(|&v| pool.install(|| builder.build(v, &setup.prims)))
+        .map(|&v| pool.install(|| builder.build(v, &setup.scene)))
         .collect::<anyhow::Result<Vec<_>>>()?;
     println!(
         "{} rays of kind {}, {threads} thread(s)",

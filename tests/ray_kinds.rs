@@ -19,12 +19,12 @@ fn setups() -> Vec<TraversalSetup> {
         let scene = raypack::scene::load(Path::new(file)).unwrap();
         let camera = match scene.camera {
             Some(spec) => spec.camera_at(96, 64).unwrap(),
-            None => framing_camera(scene_bounds(&scene.primitives), 96, 64),
+            None => framing_camera(scene_bounds(&scene), 96, 64),
         };
         let light = scene.lights.first().map(|l| l.position);
         setups.push(TraversalSetup::new(
             file,
-            scene.primitives,
+            scene,
             &camera,
             light,
             4096,
@@ -48,7 +48,7 @@ fn single_answers(accel: &impl Accel, set: &KindRays) -> Vec<bool> {
 #[test]
 fn any_hit_is_a_nearest_hit_within_the_ray() {
     for setup in setups() {
-        let bvh = Bvh::new(&setup.prims);
+        let bvh = Bvh::new(&setup.scene.primitives);
         for kind in [RayKind::Shadow, RayKind::Ao] {
             let set = setup.rays_of(kind).unwrap();
             let occluded = single_answers(&bvh, set);
@@ -85,8 +85,8 @@ fn raypack_and_embree_agree_on_hit_or_miss_of_every_kind() {
 
     let device = Arc::new(Device::with_default_config().expect("Embree device"));
     for setup in setups() {
-        let bvh = Bvh::new(&setup.prims);
-        let embree = EmbreeScene::new(device.clone(), &setup.prims).unwrap();
+        let bvh = Bvh::new(&setup.scene.primitives);
+        let embree = EmbreeScene::new(device.clone(), &setup.scene.primitives).unwrap();
         for set in &setup.kinds {
             let ours = single_answers(&bvh, set);
             let theirs = single_answers(&embree, set);

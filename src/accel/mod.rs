@@ -13,12 +13,14 @@ pub mod kind;
 pub mod queries;
 pub mod stats;
 pub mod traversal_counter;
+pub mod two_level;
 
 pub use brute_force::BruteForce;
 pub use bvh::Bvh;
 pub use kind::AccelKind;
 pub use stats::TraversalStats;
 pub use traversal_counter::TraversalCounter;
+pub use two_level::TwoLevel;
 
 use crate::accel::stats::{Counter, NoStats};
 use crate::packet::{HitPacket, RayPacket};

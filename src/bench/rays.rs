@@ -14,16 +14,16 @@
 
 use glam::Vec3;
 
-use crate::accel::{Accel, Bvh};
+use crate::accel::{Accel, Bvh, TwoLevel};
 use crate::bounds::Aabb;
 use crate::camera::Camera;
-use crate::geometry::Primitive;
 use crate::huge_pages::ADVISED_BYTES;
 use crate::packet::{RayPacket, RayPacket8, RayPacket16};
 use crate::ray::Ray;
 use crate::render::batch::BATCH;
 use crate::render::whitted::epsilon_for;
 use crate::rng::Rng;
+use crate::scene::Scene;
 
 /// A standard kind of ray.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, serde::Serialize)]
@@ -159,8 +159,8 @@ impl KindRays {
 
 /// Where the standard kinds start: the scene, its camera and light.
 pub struct RaySource<'a> {
-    /// The primitives.
-    pub prims: &'a [Primitive],
+    /// The scene.
+    pub scene: &'a Scene,
     /// Their box (bounded primitives).
     pub bounds: Aabb,
     /// The camera of the primary rays.
@@ -261,8 +261,16 @@ impl RaySource<'_> {
 
     /// Per primary ray of each block: its hit point and the normal facing it, if it hit.
     fn surfaces(&self, blocks: &[Block]) -> Vec<[Option<(Vec3, Vec3)>; BLOCK]> {
+        if self.scene.instances.is_empty() {
+            self.surfaces_through(&Bvh::new(&self.scene.primitives), blocks)
+        } else {
+            self.surfaces_through(&TwoLevel::new(self.scene, Bvh::new), blocks)
+        }
+    }
+
+    /// [`surfaces`](Self::surfaces), the primary rays traced through `accel`.
+    fn surfaces_through<A: Accel>(&self, accel: &A, blocks: &[Block]) -> Vec<[Option<(Vec3, Vec3)>; BLOCK]> {
         use rayon::prelude::*;
-        let bvh = Bvh::new(self.prims);
         blocks
             .par_iter()
             .map(|(lanes, mask)| {
@@ -271,11 +279,11 @@ impl RaySource<'_> {
                         return None;
                     }
                     let ray = &lanes[i];
-                    let hit = bvh.intersect(ray);
+                    let hit = accel.intersect(ray);
                     if !hit.is_hit() {
                         return None;
                     }
-                    let n = self.prims[hit.prim as usize].geometric_normal(ray, &hit);
+                    let (n, _) = self.scene.normals_at(ray, &hit);
                     let n = if n.dot(ray.dir) > 0.0 { -n } else { n };
                     Some((ray.at(hit.t), n)).filter(|(p, n)| p.is_finite() && n.is_normalized())
                 })
@@ -303,10 +311,11 @@ mod tests {
     #[test]
     fn every_kind_packs_its_rays_in_order() {
         let prims = crate::scene::generate::random::bumpy_sphere(500, 1);
-        let bounds = crate::bench::traversal::scene_bounds(&prims);
+        let scene = crate::scene::generate::test_scenes::scene_of("bumpy".into(), prims);
+        let bounds = crate::bench::traversal::scene_bounds(&scene);
         let camera = crate::scene::generate::random::framing_camera(bounds, 40, 20);
         let source = RaySource {
-            prims: &prims,
+            scene: &scene,
             bounds,
             camera: &camera,
             light: default_light(bounds),

@@ -134,11 +134,18 @@ fn image_fits(width: u32, height: u32, available: u64, source: &str) -> Result<(
 /// kinds of primitives, its packet widths) or is missing from this build, else
 /// a failure of the run.
 pub fn engine_error(e: anyhow::Error) -> CliError {
-    if e.is::<NotApplicable>() {
+    if e.is::<NotApplicable>() || e.is::<crate::scene::InstanceError>() {
         CliError::BadInput(e)
     } else {
         CliError::Failed(e)
     }
+}
+
+/// The scene's primitives in world space under their ids, instanced ones as
+/// copies ([`Scene::flat_primitives`](crate::scene::Scene::flat_primitives)):
+/// what the agreement's edge tests and `trace`'s queries read.
+pub fn flat_primitives(scene: &crate::scene::Scene) -> Result<&[crate::geometry::Primitive], CliError> {
+    scene.flat_primitives().map_err(|e| CliError::BadInput(e.into()))
 }
 
 /// raypack's arguments as given (without the program's name), for a

@@ -21,7 +21,7 @@ use anyhow::anyhow;
 
 use crate::accel::AccelKind;
 use crate::atomic_file::AtomicFile;
-use crate::cli::args::{engine_error, environment, load_scene, parse_size, thread_pool};
+use crate::cli::args::{engine_error, environment, flat_primitives, load_scene, parse_size, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::compare::diff_image::diff_image;
@@ -180,7 +180,7 @@ pub fn run(args: CheckArgs) -> CliResult {
     let (scene, _) = load_scene(&args.scene)?;
     let built = devices
         .iter()
-        .map(|d| d.build(&scene.primitives))
+        .map(|d| d.build_scene(&scene))
         .collect::<anyhow::Result<Vec<_>>>()
         .map_err(engine_error)?;
     let descriptions: Vec<Description> = built.iter().map(|b| b.describe()).collect();
@@ -212,11 +212,11 @@ pub fn run(args: CheckArgs) -> CliResult {
             };
             pool.install(|| b.visit(job))
         });
-        let classes = classify_rays(&scene.primitives, &rays, &hits_a, &hits_b, &options);
+        let classes = classify_rays(flat_primitives(&scene)?, &rays, &hits_a, &hits_b, &options);
         let agreement = Agreement::from_classes(&rays, &hits_a, &hits_b, &classes, options.keep);
         if set == CheckRays::Primary && diff_file.is_some() {
             let caption = vec![
-                format!("{} ({} primitives)", scene.source, scene.primitives.len()),
+                format!("{} ({} primitives)", scene.source, scene.id_count()),
                 format!(
                     "{a} {} {:?}  vs  {}",
                     descriptions[0].structure, args.kernel, descriptions[1].settings
@@ -253,7 +253,7 @@ pub fn run(args: CheckArgs) -> CliResult {
     if args.json {
         let json = serde_json::json!({
             "scene": scene.source,
-            "primitives": scene.primitives.len(),
+            "primitives": scene.id_count(),
             "kernel": args.kernel,
             "max_ulps": args.max_ulps,
             "environment": environment(engines.contains(&Engine::Embree).then_some(&*args.embree_config))?,
@@ -307,7 +307,7 @@ fn print_report(
     outln!(
         "scene    {} ({} primitives: {})",
         scene.source,
-        scene.primitives.len(),
+        scene.id_count(),
         counts.join(", ")
     )?;
     for (name, d) in [a, b].iter().zip(descriptions) {

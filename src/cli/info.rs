@@ -10,7 +10,7 @@ use glam::Vec3;
 use crate::cli::args::load_scene;
 use crate::cli::error::CliResult;
 use crate::geometry::PrimitiveKind;
-use crate::scene::{CameraSpec, Light, Material, Scene};
+use crate::scene::{CameraSpec, InstancingSummary, Light, Material, Scene};
 
 /// Options of `info`.
 #[derive(clap::Args, Debug)]
@@ -30,7 +30,11 @@ const LISTED: usize = 16;
 struct Report<'a> {
     source: &'a str,
     load_seconds: f64,
-    primitives: usize,
+    /// Primitives rays meet, instanced ones counted once per instance.
+    primitives: u64,
+    /// Instances, meshes, unique and instanced counts, and bytes per level.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    instancing: Option<InstancingSummary>,
     counts: BTreeMap<PrimitiveKind, usize>,
     /// Triangles with per-vertex shading normals.
     smooth_triangles: usize,
@@ -68,7 +72,8 @@ fn report(scene: &Scene, load_seconds: f64) -> Report<'_> {
     Report {
         source: &scene.source,
         load_seconds,
-        primitives: scene.primitives.len(),
+        primitives: scene.id_count(),
+        instancing: scene.instancing_summary(),
         counts: scene.counts().into_iter().collect(),
         smooth_triangles: scene.vertex_normals.len(),
         bounds: (!bounds.is_empty()).then_some(Bounds {
@@ -80,6 +85,11 @@ fn report(scene: &Scene, load_seconds: f64) -> Report<'_> {
         lights: &scene.lights,
         materials: &scene.materials,
     }
+}
+
+/// Bytes as `12.3 MB`.
+fn megabytes(bytes: u64) -> String {
+    format!("{:.1} MB", bytes as f64 / 1e6)
 }
 
 fn vec(v: Vec3) -> String {
@@ -106,6 +116,20 @@ fn text(r: &Report) -> String {
     out += &format!("primitives  {}\n", r.primitives);
     for (kind, n) in &r.counts {
         out += &format!("  {:<12} {n}\n", format!("{kind:?}").to_lowercase());
+    }
+    if let Some(i) = &r.instancing {
+        out += &format!(
+            "instances   {}
+",
+            i.line()
+        );
+        out += &format!(
+            "  memory     top: {} own primitives + {} instance records; bottom: {} meshes
+",
+            megabytes(i.own_bytes),
+            megabytes(i.instance_bytes),
+            megabytes(i.mesh_bytes)
+        );
     }
     if r.smooth_triangles > 0 {
         out += &format!("  ({} triangles with vertex normals)\n", r.smooth_triangles);

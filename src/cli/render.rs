@@ -188,7 +188,7 @@ pub fn run(args: Args) -> CliResult {
     let device_start = Instant::now();
     let device = args.engine.device(&options).map_err(CliError::BadInput)?;
     Engine::prepare_threads(&[args.engine], &pool);
-    let built = device.build(&scene.primitives).map_err(engine_error)?;
+    let built = device.build_scene(&scene).map_err(engine_error)?;
     let setup_seconds = device_start.elapsed().as_secs_f64();
     let accel = built.describe().structure;
     let out = built.visit(request);

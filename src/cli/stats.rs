@@ -10,7 +10,7 @@ use std::time::Instant;
 use clap::Args as ClapArgs;
 
 use crate::accel::{Accel, AccelKind, TraversalStats};
-use crate::cli::args::{load_scene, thread_pool};
+use crate::cli::args::{flat_primitives, load_scene, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::{out, outln};
 use crate::engines::{Engine, EngineOptions, WithAccel, with_engine};
@@ -69,7 +69,7 @@ pub fn run(args: Args) -> CliResult {
         Some(name) => Some(published_for(
             &args.scene,
             name.as_deref(),
-            scene.primitives.len(),
+            scene.id_count() as usize,
         )?),
         None => None,
     };
@@ -84,7 +84,7 @@ pub fn run(args: Args) -> CliResult {
         ..EngineOptions::default()
     };
     let (counted, setup) =
-        with_engine(Engine::Raypack, &options, &scene.primitives, job).map_err(CliError::Failed)?;
+        with_engine(Engine::Raypack, &options, flat_primitives(&scene)?, job).map_err(CliError::Failed)?;
     let (counts, trace, traversal) =
         counted.map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", args.scene.display())))?;
     eprintln!(

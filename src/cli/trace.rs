@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use crate::accel::queries::{all_hits, is_inside};
 use crate::accel::{Accel, AccelKind};
 use crate::atomic_file::AtomicFile;
-use crate::cli::args::{engine_error, load_scene, thread_pool};
+use crate::cli::args::{engine_error, flat_primitives, load_scene, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::compare::csv::{format_hits, read_hits, read_rays};
@@ -172,11 +172,11 @@ pub fn run(args: TraceArgs) -> CliResult {
         embree_mode: args.embree_mode,
     };
     let device = args.engine.device(&options).map_err(CliError::BadInput)?;
-    let built = device.build(&scene.primitives).map_err(engine_error)?;
+    let built = device.build_scene(&scene).map_err(engine_error)?;
     let pool = thread_pool(None)?;
     Engine::prepare_threads(&[args.engine], &pool);
     let job = TraceJob {
-        prims: &scene.primitives,
+        prims: flat_primitives(&scene)?,
         rays: &rays,
         query: args.query,
         kernel: args.kernel,
@@ -200,7 +200,7 @@ pub fn run(args: TraceArgs) -> CliResult {
     eprintln!(
         "traced {} through {} with {:?} ({:?}): {}, {:.3} s (with build); wrote {}",
         plural::count(rays.len() as u64, "ray", "rays"),
-        plural::count(scene.primitives.len() as u64, "primitive", "primitives"),
+        plural::count(scene.id_count(), "primitive", "primitives"),
         args.engine,
         args.kernel,
         plural::count(hits.iter().filter(|h| h.is_hit()).count() as u64, "hit", "hits"),
@@ -216,7 +216,7 @@ pub fn run(args: TraceArgs) -> CliResult {
 /// The classes of the rays on which `ours` and `theirs` differ, counted.
 fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &TraceArgs) -> CliResult {
     let options = AgreementOptions::default();
-    let classes = classify_rays(&scene.primitives, rays, ours, theirs, &options);
+    let classes = classify_rays(flat_primitives(scene)?, rays, ours, theirs, &options);
     let agreement = Agreement::from_classes(rays, ours, theirs, &classes, options.keep);
     let (a, b) = (args.engine.name(), "the --diff file");
     outln!(

@@ -29,6 +29,9 @@ pub struct Capabilities {
     pub t_min: bool,
     /// Traversal counts (nodes, leaves, primitives) for the statistics.
     pub counts_work: bool,
+    /// Instances traced as instances, each mesh held once (false: the scene
+    /// is flattened for the engine, every instanced primitive a copy).
+    pub instances: bool,
 }
 
 impl Capabilities {
@@ -41,6 +44,7 @@ impl Capabilities {
         primitives: PrimitiveKinds::All,
         t_min: true,
         counts_work: true,
+        instances: true,
     };
 
     /// A peer's: nearest and any hit on triangles (polygons split), one ray
@@ -50,6 +54,7 @@ impl Capabilities {
         packet16: false,
         primitives: PrimitiveKinds::Triangles,
         counts_work: false,
+        instances: false,
         ..Self::ALL
     };
 }

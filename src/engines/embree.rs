@@ -12,6 +12,9 @@ pub struct EmbreeEngine;
 /// What Embree can do, linked or not: everything raypack's kernels do, uncounted.
 const CAPABILITIES: Capabilities = Capabilities {
     counts_work: false,
+    // Embree's own instances (RTC_GEOMETRY_TYPE_INSTANCE) for meshes of its
+    // native shapes; a scene with another mesh reaches it flattened.
+    instances: true,
     ..Capabilities::ALL
 };
 
@@ -25,6 +28,7 @@ mod linked {
     use crate::engines::embree::{CAPABILITIES, EmbreeEngine};
     use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
     use crate::geometry::Primitive;
+    use crate::scene::Scene;
 
     impl EngineModule for EmbreeEngine {
         const NAME: &'static str = "embree";
@@ -48,6 +52,20 @@ mod linked {
             }?)
         }
 
+        fn build_scene(device: &Self::Device, scene: &Scene) -> anyhow::Result<EmbreeScene> {
+            let instanced = scene.instances.meshes().iter().all(EmbreeScene::instances_mesh);
+            if scene.instances.is_empty() || !instanced {
+                // No instances, or a mesh Embree cannot instance: copies under the same ids.
+                return Self::build(device, scene.flat_primitives()?);
+            }
+            let (device, mode) = device;
+            Ok(EmbreeScene::with_instances(
+                device.clone(),
+                scene,
+                *mode == EmbreeMode::Robust,
+            )?)
+        }
+
         fn visit<'s, J: WithAccel<'s>>(scene: &'s EmbreeScene, job: J) -> J::Output {
             job.run(scene)
         }
@@ -55,10 +73,14 @@ mod linked {
         fn describe(scene: &EmbreeScene) -> Description {
             let device = scene.device();
             let mode = if scene.is_robust() { "robust" } else { "fast" };
+            let meshes = match scene.instanced_meshes() {
+                0 => String::new(),
+                n => format!(", {} instanced", crate::plural::count(n as u64, "mesh", "meshes")),
+            };
             Description {
                 structure: "embree",
                 settings: format!(
-                    "Embree {} \"{}\", {mode}",
+                    "Embree {} \"{}\", {mode}{meshes}",
                     device.version_string(),
                     device.config()
                 ),

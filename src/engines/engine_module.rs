@@ -6,6 +6,7 @@ use crate::accel::{Accel, AccelKind};
 use crate::embree_settings::{DEFAULT_EMBREE_CONFIG, EmbreeMode};
 use crate::engines::capabilities::Capabilities;
 use crate::geometry::Primitive;
+use crate::scene::Scene;
 
 /// Code to run with an engine's structure, whatever its type; the output may
 /// borrow the structure for `'s` (a timed unit of `bench scene` does).
@@ -72,6 +73,14 @@ pub trait EngineModule {
 
     /// Build the structure over `prims` (a hit's primitive index is the position in `prims`).
     fn build<'p>(device: &Self::Device, prims: &'p [Primitive]) -> anyhow::Result<Self::Built<'p>>;
+
+    /// Build the structure over `scene`, its instances included (hit ids as
+    /// [`Scene::locate`] reads them). By default the engine has no instances
+    /// of its own and builds over copies of the instanced primitives under
+    /// the same ids ([`Scene::flat_primitives`]).
+    fn build_scene<'p>(device: &Self::Device, scene: &'p Scene) -> anyhow::Result<Self::Built<'p>> {
+        Self::build(device, scene.flat_primitives()?)
+    }
 
     /// Run `job` with the structure `built`.
     fn visit<'s, J: WithAccel<'s>>(built: &'s Self::Built<'_>, job: J) -> J::Output;

@@ -33,6 +33,7 @@ pub use engine_module::{Description, EngineModule, EngineOptions, WithAccel};
 pub use unavailable::Unavailable;
 
 use crate::geometry::Primitive;
+use crate::scene::Scene;
 
 registry::registry! {
     /// raypack's own kernels and acceleration structure.
@@ -84,10 +85,20 @@ impl Engine {
 
     /// Whether the engine takes every primitive of `prims`.
     pub fn takes(self, prims: &[Primitive]) -> Result<(), NotApplicable> {
+        self.takes_each(prims.iter())
+    }
+
+    /// Whether the engine takes every primitive of `scene`, its meshes' included.
+    pub fn takes_scene(self, scene: &Scene) -> Result<(), NotApplicable> {
+        let meshes = scene.instances.meshes().iter().flat_map(|m| &m.primitives);
+        self.takes_each(scene.primitives.iter().chain(meshes))
+    }
+
+    /// Whether the engine takes every primitive of `prims`.
+    fn takes_each<'p>(self, prims: impl Iterator<Item = &'p Primitive>) -> Result<(), NotApplicable> {
         let others = match self.capabilities().primitives {
             PrimitiveKinds::All => 0,
             PrimitiveKinds::Triangles => prims
-                .iter()
                 .filter(|p| !matches!(p, Primitive::Triangle(_) | Primitive::Polygon(_)))
                 .count(),
         };
@@ -110,10 +121,11 @@ impl Engine {
 }
 
 impl EngineDevice {
-    /// Build the structure over `prims`, with the seconds it took.
-    pub fn build_timed<'p>(&self, prims: &'p [Primitive]) -> anyhow::Result<(Built<'p>, f64)> {
+    /// Build the structure over `scene` ([`build_scene`](Self::build_scene)),
+    /// with the seconds it took.
+    pub fn build_timed<'p>(&self, scene: &'p Scene) -> anyhow::Result<(Built<'p>, f64)> {
         let start = std::time::Instant::now();
-        let built = self.build(prims)?;
+        let built = self.build_scene(scene)?;
         Ok((built, start.elapsed().as_secs_f64()))
     }
 }

@@ -1,10 +1,11 @@
 //! raypack's own engine: its kernels through the structure `--accel` names,
 //! the SAH BVH or brute force (the reference).
 
-use crate::accel::{AccelKind, BruteForce, Bvh};
+use crate::accel::{AccelKind, BruteForce, Bvh, TwoLevel};
 use crate::engines::capabilities::Capabilities;
 use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
 use crate::geometry::Primitive;
+use crate::scene::Scene;
 
 /// raypack in the registry.
 pub struct RaypackEngine;
@@ -15,6 +16,10 @@ pub enum RaypackBuilt<'p> {
     None(BruteForce<'p>),
     /// The SAH BVH (boxed: its buffer headers take 232 bytes, brute force's slice 16).
     Bvh(Box<Bvh>),
+    /// A scene with instances: brute force over each mesh under a top-level BVH.
+    InstancedNone(Box<TwoLevel<BruteForce<'p>>>),
+    /// A scene with instances: a BVH per mesh under a top-level BVH.
+    InstancedBvh(Box<TwoLevel<Bvh>>),
 }
 
 impl EngineModule for RaypackEngine {
@@ -35,29 +40,47 @@ impl EngineModule for RaypackEngine {
         })
     }
 
+    fn build_scene<'p>(kind: &AccelKind, scene: &'p Scene) -> anyhow::Result<RaypackBuilt<'p>> {
+        if scene.instances.is_empty() {
+            return Self::build(kind, &scene.primitives);
+        }
+        Ok(match kind {
+            AccelKind::None => RaypackBuilt::InstancedNone(Box::new(TwoLevel::new(scene, BruteForce::new))),
+            AccelKind::Bvh => RaypackBuilt::InstancedBvh(Box::new(TwoLevel::new(scene, Bvh::new))),
+        })
+    }
+
     fn visit<'s, J: WithAccel<'s>>(built: &'s RaypackBuilt<'_>, job: J) -> J::Output {
         match built {
             RaypackBuilt::None(brute_force) => job.run(brute_force),
             RaypackBuilt::Bvh(bvh) => job.run(&**bvh),
+            RaypackBuilt::InstancedNone(two_level) => job.run(&**two_level),
+            RaypackBuilt::InstancedBvh(two_level) => job.run(&**two_level),
         }
     }
 
     fn describe(built: &RaypackBuilt<'_>) -> Description {
-        let kind = match built {
-            RaypackBuilt::None(_) => AccelKind::None,
-            RaypackBuilt::Bvh(_) => AccelKind::Bvh,
+        let (kind, instanced) = match built {
+            RaypackBuilt::None(_) => (AccelKind::None, ""),
+            RaypackBuilt::Bvh(_) => (AccelKind::Bvh, ""),
+            RaypackBuilt::InstancedNone(_) => (AccelKind::None, " per mesh, instances under a bvh"),
+            RaypackBuilt::InstancedBvh(_) => (AccelKind::Bvh, " per mesh, instances under a bvh"),
         };
         Description {
             structure: kind.name(),
-            settings: format!("raypack {}, {}", env!("CARGO_PKG_VERSION"), kind.name()),
+            settings: format!(
+                "raypack {}, {}{instanced}",
+                env!("CARGO_PKG_VERSION"),
+                kind.name()
+            ),
             translation: None,
         }
     }
 
     fn sah_cost(built: &RaypackBuilt<'_>) -> Option<f64> {
         match built {
-            RaypackBuilt::None(_) => None,
             RaypackBuilt::Bvh(bvh) => Some(bvh.info().sah_cost),
+            _ => None,
         }
     }
 }

@@ -83,6 +83,17 @@ macro_rules! registry {
                     $(EngineDevice::$variant(d) => Built::$variant(<$module::$ty as EngineModule>::build(d, prims)?),)+
                 })
             }
+
+            /// Build the engine's structure over `scene`, its instances
+            /// included (hit ids as [`Scene::locate`](crate::scene::Scene::locate)
+            /// reads them); a [`NotApplicable`] error where the engine does
+            /// not take the primitives' kinds.
+            pub fn build_scene<'p>(&self, scene: &'p crate::scene::Scene) -> anyhow::Result<Built<'p>> {
+                self.engine().takes_scene(scene)?;
+                Ok(match self {
+                    $(EngineDevice::$variant(d) => Built::$variant(<$module::$ty as EngineModule>::build_scene(d, scene)?),)+
+                })
+            }
         }
 
         /// An engine's structure over a scene ([`EngineDevice::build`]).

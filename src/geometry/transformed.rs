@@ -19,7 +19,7 @@ use crate::simd::{SimdFloat, V3};
 /// An affine map stored as its four columns, applied in one fixed order so the
 /// scalar and packet kernels compute bit-identical rays. 48 bytes.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Affine {
+pub struct Affine {
     x: Vec3,
     y: Vec3,
     z: Vec3,
@@ -27,7 +27,8 @@ struct Affine {
 }
 
 impl Affine {
-    fn from_mat4(m: &Mat4) -> Self {
+    /// The map of the affine matrix `m` (its bottom row is not read).
+    pub fn from_mat4(m: &Mat4) -> Self {
         Self {
             x: m.x_axis.truncate(),
             y: m.y_axis.truncate(),
@@ -36,25 +37,49 @@ impl Affine {
         }
     }
 
+    /// `v` as a vector (no translation).
     #[inline(always)]
-    fn vector(&self, v: Vec3) -> Vec3 {
+    pub fn vector(&self, v: Vec3) -> Vec3 {
         self.x * v.x + self.y * v.y + self.z * v.z
     }
 
+    /// `p` as a point.
     #[inline(always)]
-    fn point(&self, p: Vec3) -> Vec3 {
+    pub fn point(&self, p: Vec3) -> Vec3 {
         self.vector(p) + self.translation
     }
 
+    /// [`vector`](Self::vector) of every lane.
     #[inline(always)]
-    fn vector_packet<F: SimdFloat>(&self, v: &V3<F>) -> V3<F> {
+    pub fn vector_packet<F: SimdFloat>(&self, v: &V3<F>) -> V3<F> {
         V3::splat(self.x).scale(v.x) + V3::splat(self.y).scale(v.y) + V3::splat(self.z).scale(v.z)
     }
 
+    /// [`point`](Self::point) of every lane.
     #[inline(always)]
-    fn point_packet<F: SimdFloat>(&self, p: &V3<F>) -> V3<F> {
+    pub fn point_packet<F: SimdFloat>(&self, p: &V3<F>) -> V3<F> {
         self.vector_packet(p) + V3::splat(self.translation)
     }
+}
+
+/// M⁻¹ of an affine matrix `m`: finite, bottom row `0 0 0 1`, invertible.
+/// Inverted in double precision: M⁻¹ feeds every ray, and its rounding shows in t.
+pub fn affine_inverse(m: &Mat4) -> Result<Mat4, GeometryError> {
+    if !m.is_finite() {
+        return Err(GeometryError::NotFinite);
+    }
+    if m.row(3) != Vec4::W {
+        return Err(GeometryError::NotAffine);
+    }
+    let det = m.determinant();
+    if det == 0.0 || !det.is_finite() {
+        return Err(GeometryError::SingularTransform);
+    }
+    let inverse = m.as_dmat4().inverse().as_mat4();
+    if !inverse.is_finite() {
+        return Err(GeometryError::SingularTransform);
+    }
+    Ok(inverse)
 }
 
 /// A primitive placed in the world by an affine transform. 152 bytes plus the primitive.
@@ -73,21 +98,7 @@ pub struct Transformed {
 impl Transformed {
     /// `object` under the affine matrix `m` (bottom row `0 0 0 1`, invertible).
     pub fn new(object: Primitive, m: Mat4) -> Result<Self, GeometryError> {
-        if !m.is_finite() {
-            return Err(GeometryError::NotFinite);
-        }
-        if m.row(3) != Vec4::W {
-            return Err(GeometryError::NotAffine);
-        }
-        let det = m.determinant();
-        if det == 0.0 || !det.is_finite() {
-            return Err(GeometryError::SingularTransform);
-        }
-        // Inverted in double precision: M⁻¹ feeds every ray, and its rounding shows in t.
-        let inverse = m.as_dmat4().inverse().as_mat4();
-        if !inverse.is_finite() {
-            return Err(GeometryError::SingularTransform);
-        }
+        let inverse = affine_inverse(&m)?;
         Ok(Self {
             object,
             to_world: m,

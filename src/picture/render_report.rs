@@ -42,8 +42,11 @@ pub struct RenderReport {
     pub tile_size: u32,
     /// Maximum ray depth (whitted mode).
     pub max_depth: u32,
-    /// Number of primitives.
+    /// Number of primitives (instanced ones once per instance).
     pub primitives: usize,
+    /// The scene's instancing, if it has instances.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instancing: Option<crate::scene::InstancingSummary>,
     /// Primitives by kind.
     pub primitive_kinds: BTreeMap<String, usize>,
     /// Lights.
@@ -175,7 +178,8 @@ impl RenderReport {
             threads: info.threads,
             tile_size: info.tile_size,
             max_depth: info.max_depth,
-            primitives: scene.primitives.len(),
+            primitives: scene.id_count() as usize,
+            instancing: scene.instancing_summary(),
             primitive_kinds: scene
                 .counts()
                 .into_iter()
@@ -219,7 +223,7 @@ impl RenderReport {
             Mode::Whitted => format!("whitted (depth {})", self.max_depth),
             m => m.name().to_string(),
         };
-        vec![
+        let mut lines = vec![
             format!(
                 "{}  {}x{}  mode: {}  kernel: {} ({} blocks, {})  accel: {}  threads: {}  tiles: {}px",
                 self.scene,
@@ -254,7 +258,11 @@ impl RenderReport {
                 self.rays_total
             ),
             self.traversal_caption(),
-        ]
+        ];
+        if let Some(i) = &self.instancing {
+            lines.insert(2, format!("instancing: {}", i.line()));
+        }
+        lines
     }
 
     /// The traversal paragraph, e.g. `traversal, counted in this render, BVH:

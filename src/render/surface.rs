@@ -24,8 +24,8 @@ pub struct Surface<'a> {
 impl<'a> Surface<'a> {
     /// The surface at `hit` (which must be a hit) of `ray` in `scene`.
     ///
-    /// The geometric normal comes from [`Primitive::geometric_normal`](crate::geometry::Primitive::geometric_normal)
-    /// and is flipped to face the ray, so back faces shade like front faces
+    /// The geometric normal comes from [`Scene::normals_at`] (the
+    /// primitive's, through its instance's transform if it has one) and is flipped to face the ray, so back faces shade like front faces
     /// (NFF's one-sided surfaces are not culled, and transmitting ones need both
     /// sides). A smooth-shading normal `(1−u−v)·n0 + u·n1 + v·n2` is flipped to the
     /// same side as the facing geometric normal, so interpolation never turns a
@@ -33,12 +33,12 @@ impl<'a> Surface<'a> {
     #[inline]
     pub fn at(scene: &'a Scene, ray: &Ray, hit: &Hit) -> Self {
         let prim = hit.prim;
-        let ng = scene.primitives[prim as usize].geometric_normal(ray, hit);
+        let (ng, vertex_normals) = scene.normals_at(ray, hit);
         let front = ng.dot(ray.dir) < 0.0;
         let facing = if front { ng } else { -ng };
-        let normal = match scene.vertex_normals.get(&prim) {
+        let normal = match vertex_normals {
             Some([n0, n1, n2]) => {
-                let n = ((1.0 - hit.u - hit.v) * *n0 + hit.u * *n1 + hit.v * *n2).normalize_or_zero();
+                let n = ((1.0 - hit.u - hit.v) * n0 + hit.u * n1 + hit.v * n2).normalize_or_zero();
                 if n == Vec3::ZERO {
                     facing
                 } else if n.dot(facing) < 0.0 {

@@ -11,6 +11,7 @@
 mod error;
 pub mod generate;
 mod input;
+pub mod instance;
 pub mod loader;
 mod mesh;
 mod model;
@@ -20,8 +21,9 @@ pub mod obj;
 pub mod ply;
 
 pub use error::{SceneError, geometry_message};
+pub use instance::{Instance, InstanceError, InstancingSummary, Mesh};
 pub use loader::{load, parse};
-pub use model::{CameraSpec, DEFAULT_VIEW, Light, Material, Scene};
+pub use model::{CameraSpec, DEFAULT_VIEW, Light, Located, Material, Scene};
 
 #[cfg(test)]
 mod tests {

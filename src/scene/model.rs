@@ -3,12 +3,17 @@
 
 use std::collections::HashMap;
 
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 
 use crate::bounds::Aabb;
 use crate::camera::{Camera, CameraError};
 use crate::geometry::triangle::TriangleTest;
 use crate::geometry::{Primitive, PrimitiveKind};
+use crate::ray::{Hit, Ray};
+use crate::scene::instance::{
+    Instance, InstanceError, Instances, InstancingSummary, MAX_FLATTENED, Mesh, placed_normal,
+    placed_primitive,
+};
 
 /// A Phong/Whitted surface, as NFF's `f` line describes it. 32 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -131,7 +136,8 @@ impl CameraSpec {
 /// A loaded scene.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
-    /// Primitives in file order; a hit's primitive index points here.
+    /// The scene's own primitives in file order: ids `0..n` (instanced ones
+    /// follow, see [`Scene::locate`]).
     pub primitives: Vec<Primitive>,
     /// Material index of each primitive (parallel to `primitives`).
     pub material_of: Vec<u32>,
@@ -148,6 +154,23 @@ pub struct Scene {
     pub vertex_normals: HashMap<u32, [Vec3; 3]>,
     /// Where the scene came from (file path or generator), for reports.
     pub source: String,
+    /// Meshes placed by instances (none in a scene without instances).
+    pub instances: Instances,
+}
+
+/// What a primitive id names ([`Scene::locate`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Located<'a> {
+    /// The primitive (in object space for an instanced one).
+    pub primitive: &'a Primitive,
+    /// Its material index.
+    pub material: u32,
+    /// Its shading normals, if smooth (object space for an instanced one).
+    pub vertex_normals: Option<&'a [Vec3; 3]>,
+    /// The instance, with its index, for an instanced primitive.
+    pub instance: Option<(u32, &'a Instance)>,
+    /// Its index in the scene's own primitives or in its mesh.
+    pub index: u32,
 }
 
 impl Scene {
@@ -156,6 +179,159 @@ impl Scene {
         for prim in &mut self.primitives {
             prim.set_triangle_test(test);
         }
+        self.instances.for_each_primitive(|p| p.set_triangle_test(test));
+    }
+
+    /// Add a mesh for instances to place; returns its index.
+    pub fn add_mesh(&mut self, mesh: Mesh) -> u32 {
+        self.instances.add_mesh(mesh)
+    }
+
+    /// Place mesh `mesh` in the world by the affine matrix `to_world`; returns
+    /// the instance's index.
+    pub fn place(&mut self, mesh: u32, to_world: Mat4) -> Result<u32, InstanceError> {
+        self.instances.place(mesh, to_world, self.primitives.len())
+    }
+
+    /// Every primitive id of the scene: its own primitives and the instanced ones.
+    pub fn id_count(&self) -> u64 {
+        self.primitives.len() as u64 + self.instances.ids()
+    }
+
+    /// The unique primitives: the scene's own and its meshes'.
+    pub fn unique_primitives(&self) -> u64 {
+        let meshes: usize = self.instances.meshes().iter().map(|m| m.primitives.len()).sum();
+        (self.primitives.len() + meshes) as u64
+    }
+
+    /// What the scene's instancing amounts to; None without instances.
+    pub fn instancing_summary(&self) -> Option<InstancingSummary> {
+        if self.instances.is_empty() {
+            return None;
+        }
+        let prim = size_of::<Primitive>() as u64;
+        let meshes = self.instances.meshes();
+        let mesh_prims: u64 = meshes.iter().map(|m| m.primitives.len() as u64).sum();
+        Some(InstancingSummary {
+            instances: self.instances.list().len(),
+            meshes: meshes.len(),
+            depth: self.instances.depth(),
+            unique_primitives: self.unique_primitives(),
+            instanced_primitives: self.id_count(),
+            own_bytes: self.primitives.len() as u64 * (prim + 4),
+            mesh_bytes: mesh_prims * (prim + 4),
+            instance_bytes: size_of_val(self.instances.list()) as u64,
+        })
+    }
+
+    /// What primitive id `id` (below [`id_count`](Self::id_count)) names.
+    pub fn locate(&self, id: u32) -> Located<'_> {
+        let own = self.primitives.len() as u32;
+        if id < own {
+            return Located {
+                primitive: &self.primitives[id as usize],
+                material: self.material_of[id as usize],
+                vertex_normals: self.vertex_normals.get(&id),
+                instance: None,
+                index: id,
+            };
+        }
+        let (i, index) = self.instances.holding(id - own);
+        let instance = &self.instances.list()[i as usize];
+        let mesh = &self.instances.meshes()[instance.mesh as usize];
+        Located {
+            primitive: &mesh.primitives[index as usize],
+            material: mesh.material_of[index as usize],
+            vertex_normals: mesh.vertex_normals.get(&index),
+            instance: Some((i, instance)),
+            index,
+        }
+    }
+
+    /// The unit geometric normal at `hit` of `ray` (not turned to face the
+    /// ray), and the world-space shading normals of its primitive if smooth.
+    /// An instanced primitive's normal is found in its mesh's space, on the
+    /// ray brought there by M⁻¹ (same t), and taken back by M⁻ᵀ.
+    pub fn normals_at(&self, ray: &Ray, hit: &Hit) -> (Vec3, Option<[Vec3; 3]>) {
+        let located = self.locate(hit.prim);
+        let Some((_, instance)) = located.instance else {
+            return (
+                located.primitive.geometric_normal(ray, hit),
+                located.vertex_normals.copied(),
+            );
+        };
+        let local = Ray {
+            origin: instance.to_object.transform_point3(ray.origin),
+            dir: instance.to_object.transform_vector3(ray.dir),
+            ..*ray
+        };
+        let m = instance.normal_to_world();
+        let ng = placed_normal(located.primitive.geometric_normal(&local, hit), m);
+        (ng, located.vertex_normals.map(|n| n.map(|n| placed_normal(n, m))))
+    }
+
+    /// Every primitive as a copy in world space, under its id: the scene's own
+    /// primitives, then each instance's. What an engine without instances of
+    /// its own builds over; made once, on the first call.
+    pub fn flat_primitives(&self) -> Result<&[Primitive], InstanceError> {
+        if self.instances.is_empty() {
+            return Ok(&self.primitives);
+        }
+        let count = self.id_count();
+        if count > MAX_FLATTENED {
+            return Err(InstanceError::TooLargeToFlatten(count));
+        }
+        Ok(self
+            .instances
+            .flat_or(|| self.flattened_parts().map(|(p, _, _)| p).collect()))
+    }
+
+    /// The same scene without instances: every instanced primitive a copy of
+    /// its own, under the same id, with its material and shading normals.
+    pub fn flattened(&self) -> Result<Scene, InstanceError> {
+        let count = self.id_count();
+        if count > MAX_FLATTENED {
+            return Err(InstanceError::TooLargeToFlatten(count));
+        }
+        let mut flat = Scene {
+            primitives: Vec::with_capacity(count as usize),
+            materials: self.materials.clone(),
+            lights: self.lights.clone(),
+            camera: self.camera,
+            background: self.background,
+            source: self.source.clone(),
+            ..Scene::default()
+        };
+        for (prim, material, normals) in self.flattened_parts() {
+            let id = flat.push(prim, material);
+            if let Some(normals) = normals {
+                flat.vertex_normals.insert(id, normals);
+            }
+        }
+        Ok(flat)
+    }
+
+    /// Each id's primitive in world space, material and shading normals.
+    fn flattened_parts(&self) -> impl Iterator<Item = (Primitive, u32, Option<[Vec3; 3]>)> + '_ {
+        (0..self.id_count() as u32).map(|id| {
+            let located = self.locate(id);
+            match located.instance {
+                None => (
+                    located.primitive.clone(),
+                    located.material,
+                    located.vertex_normals.copied(),
+                ),
+                Some((_, instance)) => {
+                    let m = instance.normal_to_world();
+                    (
+                        placed_primitive(located.primitive, instance.to_world)
+                            .expect("a placed instance's transform is affine and invertible"),
+                        located.material,
+                        located.vertex_normals.map(|n| n.map(|n| placed_normal(n, m))),
+                    )
+                }
+            }
+        })
     }
 
     /// Append a primitive with a material; returns its index.
@@ -166,26 +342,46 @@ impl Scene {
         index
     }
 
-    /// Bounds of all bounded primitives (planes are unbounded and left out).
+    /// Bounds of all bounded primitives, instanced ones included (planes are
+    /// unbounded and left out).
     pub fn bounds(&self) -> Aabb {
+        let meshes: Vec<Aabb> = self.instances.meshes().iter().map(Mesh::bounds).collect();
         self.primitives
             .iter()
             .filter_map(Primitive::bounds)
+            .chain(
+                self.instances
+                    .list()
+                    .iter()
+                    .map(|i| i.bounds(meshes[i.mesh as usize])),
+            )
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
-    /// Primitive counts by kind.
+    /// Primitive counts by kind, each instanced primitive counted once per
+    /// instance (what rays meet).
     pub fn counts(&self) -> Vec<(PrimitiveKind, usize)> {
         let mut counts: std::collections::BTreeMap<PrimitiveKind, usize> = Default::default();
         for p in &self.primitives {
             *counts.entry(p.kind()).or_default() += 1;
         }
+        // Each mesh's primitives once, times its instances.
+        let meshes = self.instances.meshes();
+        let mut placed = vec![0usize; meshes.len()];
+        for instance in self.instances.list() {
+            placed[instance.mesh as usize] += 1;
+        }
+        for (mesh, &times) in meshes.iter().zip(&placed) {
+            for p in &mesh.primitives {
+                *counts.entry(p.kind()).or_default() += times;
+            }
+        }
         counts.into_iter().collect()
     }
 
-    /// The material of primitive `prim`.
+    /// The material of primitive `prim` (an id, instanced ones included).
     pub fn material(&self, prim: u32) -> &Material {
-        &self.materials[self.material_of[prim as usize] as usize]
+        &self.materials[self.locate(prim).material as usize]
     }
 
     /// A camera that frames the whole scene from [`DEFAULT_VIEW`], 512×512, for

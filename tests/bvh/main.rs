@@ -9,5 +9,6 @@ mod agrees_with_brute_force;
 mod brute_force;
 mod degenerate;
 mod hostile_values;
+mod instances;
 mod isa;
 mod stats;

@@ -34,9 +34,12 @@ fn info_describes_every_scene() {
         );
         let text = String::from_utf8(out.stdout).unwrap();
         assert!(
-            text.contains(&format!("primitives  {}\n", scene.primitives.len())),
+            text.contains(&format!("primitives  {}\n", scene.id_count())),
             "{text}"
         );
+        if let Some(i) = scene.instancing_summary() {
+            assert!(text.contains(&format!("instances   {}\n", i.line())), "{text}");
+        }
         assert!(
             text.contains(&format!("lights      {}\n", scene.lights.len())),
             "{text}"
@@ -50,7 +53,7 @@ fn info_describes_every_scene() {
         let out = info(&[path.as_os_str(), "--json".as_ref()]);
         assert!(out.status.success());
         let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
-        assert_eq!(json["primitives"], scene.primitives.len());
+        assert_eq!(json["primitives"], scene.id_count());
         assert_eq!(json["lights"].as_array().unwrap().len(), scene.lights.len());
         assert_eq!(json["materials"].as_array().unwrap().len(), scene.materials.len());
         let counted: u64 = json["counts"]
@@ -59,7 +62,7 @@ fn info_describes_every_scene() {
             .values()
             .map(|v| v.as_u64().unwrap())
             .sum();
-        assert_eq!(counted as usize, scene.primitives.len());
+        assert_eq!(counted, scene.id_count());
         assert_eq!(json["camera"].is_null(), scene.camera.is_none());
         assert!(json["bounds"]["min"].is_array() && json["load_seconds"].as_f64().unwrap() >= 0.0);
         checked += 1;

@@ -12,6 +12,7 @@ mod closed_stdout;
 mod engines;
 mod info;
 mod inlining;
+mod instances;
 mod render;
 mod report;
 mod robustness;

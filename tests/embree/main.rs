@@ -9,4 +9,5 @@ mod support;
 mod agreement;
 mod cli;
 mod edge_cases;
+mod instances;
 mod records;

@@ -6,6 +6,7 @@
 mod support;
 
 mod identity;
+mod instances;
 mod optics;
 mod report;
 mod spd;

@@ -89,14 +89,16 @@ fn lecture_scene_has_one_of_every_primitive_in_view() {
         panic!("primitive 4 is the ellipsoid")
     };
     assert_eq!(egg.object().kind(), Sphere);
-    // The mesh: 20 smooth triangles after the eight single objects.
-    assert_eq!(s.primitives.len(), 28);
-    assert!((8..28).all(|i| s.vertex_normals.contains_key(&i)));
+    // The mesh, an instance of the included file: 20 smooth triangles, whose
+    // ids follow the eight single objects.
+    assert_eq!((s.primitives.len(), s.id_count()), (8, 28));
+    let flat = s.flattened().unwrap();
+    assert!((8..28).all(|i| flat.vertex_normals.contains_key(&i)));
     assert_eq!(s.lights.len(), 2);
     let camera = s.camera.unwrap();
     assert_ne!(camera.fovx, camera.fovy);
     // From the camera every object is seen, and several faces of the mesh.
-    let seen = visible(&s, 160, 120);
+    let seen = visible(&flat, 160, 120);
     for prim in 0..8 {
         assert!(seen.contains(&prim), "primitive {prim} is not in view");
     }

@@ -267,7 +267,7 @@ apex_radius = 1
 ];
 
 #[test]
-fn includes_take_consecutive_indices_materials_and_transforms() {
+fn includes_place_instances_with_materials_and_transforms() {
     let dir = Scratch::new("native-include");
     for (name, text) in INCLUDE_FILES {
         dir.write(name, text);
@@ -275,28 +275,45 @@ fn includes_take_consecutive_indices_materials_and_transforms() {
     let main = dir.path().join("main.toml");
     let s = scene::load(&main).unwrap();
     use PrimitiveKind::*;
-    let kinds = crate::kinds(&s);
-    assert_eq!(kinds, [Sphere, Triangle, Transformed, Triangle, Sphere, Cone]);
-    // The included triangle is baked, its sphere transformed.
-    let Primitive::Triangle(t) = &s.primitives[1] else {
+    // The file's own primitives; part.nff is one mesh, placed by the include
+    // and, with the blue override, another mesh placed through nested.toml.
+    assert_eq!(crate::kinds(&s), [Sphere, Cone]);
+    let summary = s.instancing_summary().unwrap();
+    assert_eq!((summary.instances, summary.meshes, summary.depth), (2, 2, 2));
+    assert_eq!((summary.unique_primitives, summary.instanced_primitives), (6, 6));
+    // Flattened, the instanced primitives follow under their ids: the
+    // triangle baked, the sphere transformed.
+    let flat = s.flattened().unwrap();
+    let kinds: Vec<PrimitiveKind> = flat.primitives.iter().map(Primitive::kind).collect();
+    assert_eq!(
+        kinds,
+        [Sphere, Cone, Triangle, Transformed, Triangle, Transformed]
+    );
+    let Primitive::Triangle(t) = &flat.primitives[2] else {
         panic!()
     };
     assert_eq!(t.vertices()[1], Vec3::new(11.0, 0.0, 0.0));
-    let hit = BruteForce::new(&s.primitives).intersect(&Ray::unbounded(Vec3::new(10.0, 0.0, 5.0), -Vec3::Z));
-    assert_eq!((hit.prim, hit.t), (2, 4.0));
-    // Vertex normals follow their primitives' new indices.
-    let mut smooth: Vec<u32> = s.vertex_normals.keys().copied().collect();
+    let ray = Ray::unbounded(Vec3::new(10.0, 0.0, 5.0), -Vec3::Z);
+    let hit = BruteForce::new(&flat.primitives).intersect(&ray);
+    assert_eq!((hit.prim, hit.t), (3, 4.0));
+    let instanced = raypack::accel::TwoLevel::new(&s, BruteForce::new).intersect(&ray);
+    assert_eq!((instanced.prim, instanced.t), (3, 4.0));
+    // Vertex normals follow their primitives' ids.
+    let mut smooth: Vec<u32> = flat.vertex_normals.keys().copied().collect();
     smooth.sort();
-    assert_eq!(smooth, [1, 3]);
+    assert_eq!(smooth, [2, 4]);
     // Own material for the first include, the override for the nested one.
-    assert_eq!(s.materials[s.material_of[1] as usize].color, Vec3::Y);
-    assert_eq!(s.materials[s.material_of[3] as usize].color, Vec3::Z);
-    assert_eq!(s.materials[s.material_of[4] as usize].color, Vec3::Z);
+    assert_eq!(s.material(2).color, Vec3::Y);
+    assert_eq!(s.material(4).color, Vec3::Z);
+    assert_eq!(s.material(5).color, Vec3::Z);
     // Only the include that asked for them brings its lights, transformed.
     assert_eq!(s.lights.len(), 1);
     assert_eq!(s.lights[0].position, Vec3::new(10.0, 5.0, 0.0));
     // Loading twice gives the same geometry, includes and all.
-    assert_eq!(scene::load(&main).unwrap().primitives, s.primitives);
+    assert_eq!(
+        scene::load(&main).unwrap().flattened().unwrap().primitives,
+        flat.primitives
+    );
 }
 
 /// Includes read from memory give the scene read from disk, and touch no file.
@@ -317,6 +334,10 @@ fn includes_from_memory_give_the_scene_from_disk() {
         }
         let memory = native::load_from(&root.join("./main.toml"), &files).unwrap();
         assert_eq!(memory.primitives, disk.primitives);
+        let [memory_flat, disk_flat] = [&memory, &disk].map(|s| s.flattened().unwrap());
+        assert_eq!(memory_flat.primitives, disk_flat.primitives);
+        assert_eq!(memory_flat.material_of, disk_flat.material_of);
+        assert_eq!(memory_flat.vertex_normals, disk_flat.vertex_normals);
         assert_eq!(memory.material_of, disk.material_of);
         assert_eq!(memory.materials, disk.materials);
         assert_eq!(memory.lights, disk.lights);
@@ -361,7 +382,12 @@ fn includes_from_memory_refuse_cycles_missing_files_and_deep_chains() {
         files.insert(format!("d{}.toml", files_deep - 1), SPHERE);
         native::load_from(Path::new("d0.toml"), &files)
     };
-    assert_eq!(chain(native::MAX_INCLUDE_DEPTH).unwrap().primitives.len(), 1);
+    let deepest = chain(native::MAX_INCLUDE_DEPTH).unwrap();
+    assert_eq!(deepest.id_count(), 1);
+    assert_eq!(
+        deepest.instancing_summary().unwrap().depth,
+        native::MAX_INCLUDE_DEPTH as u32 - 1
+    );
     let e = chain(native::MAX_INCLUDE_DEPTH + 1).unwrap_err();
     assert!(
         e.message.contains(&format!(

@@ -6,7 +6,7 @@ use crate::bench::rays::KindRays;
 use crate::bench::traversal::trace::{trace_packets, trace_single};
 use crate::embree_settings::EmbreeIsa;
 use crate::engines::{Built, Engine, EngineDevice, EngineOptions, WithAccel};
-use crate::geometry::Primitive;
+use crate::scene::Scene;
 
 /// An engine as measured: Embree with the kernels of one ISA setting.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -106,14 +106,14 @@ impl Builder {
         Ok(Self { devices })
     }
 
-    /// Build `variant`'s structure over `prims`.
-    pub fn build<'p>(&self, variant: EngineVariant, prims: &'p [Primitive]) -> anyhow::Result<Built<'p>> {
+    /// Build `variant`'s structure over `scene` (its instances as the engine takes them).
+    pub fn build<'p>(&self, variant: EngineVariant, scene: &'p Scene) -> anyhow::Result<Built<'p>> {
         let (_, device) = self
             .devices
             .iter()
             .find(|(v, _)| *v == variant)
             .ok_or_else(|| anyhow::anyhow!("{} was not among the builder's engines", variant.name()))?;
-        device.build(prims)
+        device.build_scene(scene)
     }
 }
 

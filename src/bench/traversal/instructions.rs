@@ -37,8 +37,11 @@ pub fn count_instructions(
     let pool = pool(1, &variants)?;
     let builder = Builder::new(engines, embree_isas, 1)?;
     for (s, setup) in setups.iter().enumerate() {
-        for &variant in variants.iter().filter(|v| v.engine.takes(&setup.prims).is_ok()) {
-            let built = pool.install(|| builder.build(variant, &setup.prims))?;
+        for &variant in variants
+            .iter()
+            .filter(|v| v.engine.takes_scene(&setup.scene).is_ok())
+        {
+            let built = pool.install(|| builder.build(variant, &setup.scene))?;
             let engine = variant.engine;
             for set in &setup.kinds {
                 if set.kind.query() == Query::AnyHit && engine.finds_any_hit().is_err() {

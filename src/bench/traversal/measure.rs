@@ -59,7 +59,7 @@ pub fn measure(
     let pairs: Vec<(&TraversalSetup, EngineVariant)> = setups
         .iter()
         .flat_map(|setup| variants.iter().map(move |&v| (setup, v)))
-        .filter(|(setup, v)| match v.engine.takes(&setup.prims) {
+        .filter(|(setup, v)| match v.engine.takes_scene(&setup.scene) {
             Ok(()) => true,
             Err(na) => {
                 eprintln!("note: {na}: no {} rows for {}", v.name(), setup.name);
@@ -147,7 +147,7 @@ fn build_each<'a>(
     for c in round_order(round, pairs.len()) {
         let (setup, variant) = pairs[c];
         let start = Instant::now();
-        let structure = builder.build(variant, &setup.prims)?;
+        let structure = builder.build(variant, &setup.scene)?;
         let ms = 1e3 * start.elapsed().as_secs_f64();
         if round > 0 {
             timings[c].build_ms.push(ms);
@@ -263,7 +263,7 @@ mod tests {
         let rows = measure(&setups, &[Engine::Raypack], &[], &[2, 1, 2], 3, &hooks).unwrap();
         // A thread count given twice is measured once, in the order given.
         let layout: Vec<_> = rows.iter().map(|r| (r.threads, r.primitives)).collect();
-        let [small, large] = setups.each_ref().map(|s| s.prims.len());
+        let [small, large] = setups.each_ref().map(|s| s.scene.primitives.len());
         assert!(small < large);
         assert_eq!(layout, [(2, small), (2, large), (1, small), (1, large)]);
         for row in &rows {

@@ -239,7 +239,7 @@ fn row(
     let sah_cost = measured.structure.sah_cost();
     Ok(TraversalRow {
         scene: setup.name.clone(),
-        primitives: setup.prims.len(),
+        primitives: setup.scene.id_count() as usize,
         engine: measured.variant.engine,
         embree_isa: measured.variant.embree_isa,
         threads,

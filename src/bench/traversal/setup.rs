@@ -5,15 +5,16 @@ use glam::Vec3;
 use crate::bench::rays::{KindRays, RayKind, RaySource, default_light};
 use crate::bounds::Aabb;
 use crate::camera::Camera;
-use crate::geometry::Primitive;
+use crate::scene::Scene;
 use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
+use crate::scene::generate::test_scenes::scene_of;
 
 /// A scene and the rays it is measured on.
 pub struct TraversalSetup {
     /// Name in reports (`mesh-1000`, `dragon`…).
     pub name: String,
-    /// The primitives.
-    pub prims: Vec<Primitive>,
+    /// The scene (primitives, and instances if it has any).
+    pub scene: Scene,
     /// The rays of each kind measured, in the order asked.
     pub kinds: Vec<KindRays>,
     /// Image size of the primary rays.
@@ -21,20 +22,20 @@ pub struct TraversalSetup {
 }
 
 impl TraversalSetup {
-    /// The rays of `kinds` for `prims` seen by `camera` (`width`, `height`
+    /// The rays of `kinds` for `scene` seen by `camera` (`width`, `height`
     /// multiples of 16 are best: partial tiles get inactive lanes), shadow rays
     /// going to `light` (or [`default_light`]), plus `random` random rays.
     pub fn new(
         name: impl Into<String>,
-        prims: Vec<Primitive>,
+        scene: Scene,
         camera: &Camera,
         light: Option<Vec3>,
         random: usize,
         kinds: &[RayKind],
     ) -> Self {
-        let bounds = scene_bounds(&prims);
+        let bounds = scene_bounds(&scene);
         let rays = RaySource {
-            prims: &prims,
+            scene: &scene,
             bounds,
             camera,
             light: light.unwrap_or_else(|| default_light(bounds)),
@@ -44,7 +45,7 @@ impl TraversalSetup {
         .make(kinds);
         Self {
             name: name.into(),
-            prims,
+            scene,
             kinds: rays,
             resolution: (camera.width, camera.height),
         }
@@ -64,10 +65,11 @@ impl TraversalSetup {
             "spheres" => random_spheres(n, 1),
             _ => return None,
         };
-        let camera = framing_camera(scene_bounds(&prims), width, height);
+        let scene = scene_of(format!("{kind}-{n}"), prims);
+        let camera = framing_camera(scene_bounds(&scene), width, height);
         Some(Self::new(
             format!("{kind}-{n}"),
-            prims,
+            scene,
             &camera,
             None,
             random,
@@ -81,12 +83,10 @@ impl TraversalSetup {
     }
 }
 
-/// The box of the bounded primitives (the unit cube when there are none).
-pub fn scene_bounds(prims: &[Primitive]) -> Aabb {
-    let b = prims
-        .iter()
-        .filter_map(Primitive::bounds)
-        .fold(Aabb::EMPTY, Aabb::union);
+/// The box of the bounded primitives, instanced ones included (the unit
+/// cube when there are none).
+pub fn scene_bounds(scene: &Scene) -> Aabb {
+    let b = scene.bounds();
     if b.is_empty() {
         Aabb::new(-glam::Vec3::ONE, glam::Vec3::ONE)
     } else {

@@ -90,8 +90,8 @@ mod tests {
     fn single_rays_and_packets_agree_with_brute_force_on_every_kind() {
         let s = TraversalSetup::generated("mesh", 500, (40, 20), 100, &RayKind::ALL).expect("known kind");
         assert_eq!(s.rays_of(RayKind::Primary).expect("primary").rays.len(), 800);
-        let bvh = Bvh::new(&s.prims);
-        let brute = crate::accel::BruteForce::new(&s.prims);
+        let bvh = Bvh::new(&s.scene.primitives);
+        let brute = crate::accel::BruteForce::new(&s.scene.primitives);
         for set in &s.kinds {
             let hits = trace_single(&brute, set);
             assert_eq!(trace_single(&bvh, set), hits, "{:?}", set.kind);

@@ -279,9 +279,9 @@ pub fn run(args: SceneArgs) -> CliResult {
     let kind_rays = if others.is_empty() {
         Vec::new()
     } else {
-        let bounds = scene_bounds(&scene.primitives);
+        let bounds = scene_bounds(&scene);
         RaySource {
-            prims: &scene.primitives,
+            scene: &scene,
             bounds,
             camera: &camera,
             light: scene
@@ -323,7 +323,7 @@ pub fn run(args: SceneArgs) -> CliResult {
     let mut engines: Vec<Engine> = Vec::new();
     let mut left_out = Vec::new();
     for &engine in &args.engine {
-        match engine.takes(&scene.primitives) {
+        match engine.takes_scene(&scene) {
             _ if engines.contains(&engine) => {}
             Ok(()) => engines.push(engine),
             Err(na) => left_out.push(na.to_string()),
@@ -373,7 +373,7 @@ pub fn run(args: SceneArgs) -> CliResult {
     let mut built = Vec::new();
     let mut setup_seconds = Vec::new();
     for device in &devices {
-        let (structure, seconds) = device.build_timed(&scene.primitives).map_err(engine_error)?;
+        let (structure, seconds) = device.build_timed(&scene).map_err(engine_error)?;
         built.push(structure);
         setup_seconds.push(seconds);
     }

@@ -142,7 +142,7 @@ fn setups(args: &TraversalArgs) -> Result<Vec<TraversalSetup>, CliError> {
             let (scene, _) = load_scene(path)?;
             let camera = match scene.camera {
                 Some(spec) => spec.camera_at(width, height),
-                None => Ok(framing_camera(scene_bounds(&scene.primitives), width, height)),
+                None => Ok(framing_camera(scene_bounds(&scene), width, height)),
             }
             .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
             let name = path
@@ -151,7 +151,7 @@ fn setups(args: &TraversalArgs) -> Result<Vec<TraversalSetup>, CliError> {
             let light = scene.lights.first().map(|l| l.position);
             vec![TraversalSetup::new(
                 name,
-                scene.primitives,
+                scene,
                 &camera,
                 light,
                 args.random,

@@ -32,6 +32,7 @@
 //! comments saying what it is and the command that made it.
 
 pub mod closed_mesh;
+pub mod forest;
 mod gears;
 mod jacks;
 mod lattice;

@@ -55,7 +55,8 @@ pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
 
 /// The scene named by a command-line argument `gen:NAME[:N[:SEED]]`; None when
 /// `spec` does not start with `gen:`. NAME is one of [`NAMES`] (N primitives,
-/// 1000 by default; seed 1 by default), or else a kind of `raypack gen`, as
+/// 1000 by default; seed 1 by default), `forest` (N instances of two meshes
+/// of some 20,000 triangles, 1000 by default: [`forest`](crate::scene::generate::forest)), or else a kind of `raypack gen`, as
 /// [`Kind`] names it (N its `--size`, SEED its `--seed`, each the kind's default
 /// when left out), generated as NFF and read back: `gen:sphereflake:3` is
 /// `raypack gen sphereflake --size 3`.
@@ -83,10 +84,14 @@ pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
         if listed {
             return Ok(by_name(name, n.unwrap_or(1000) as usize, seed.unwrap_or(1)).expect("a listed name"));
         }
+        if name == "forest" {
+            let n = usize::try_from(n.unwrap_or(1000)).map_err(|_| format!("{spec}: too many instances"))?;
+            return Ok(crate::scene::generate::forest::forest(n, seed.unwrap_or(1)));
+        }
         let kind = Kind::from_str(name, true).map_err(|_| {
             let kinds: Vec<_> = Kind::ALL.iter().map(|k| k.name()).collect();
             format!(
-                "{spec}: unknown generated scene `{name}` (one of {}, or of `raypack gen`: {})",
+                "{spec}: unknown generated scene `{name}` (one of {}, forest, or of `raypack gen`: {})",
                 NAMES.join(", "),
                 kinds.join(", ")
             )

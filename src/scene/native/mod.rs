@@ -26,7 +26,7 @@
 //! position = [4, 6, 4]
 //! color = [1, 1, 1]                   # optional, default white
 //!
-//! [[objects]]                         # one primitive each, numbered in file order
+//! [[objects]]                         # one primitive each, numbered in file order (includes after)
 //! type = "sphere"                     # sphere | plane | triangle | polygon | cone | include
 //! center = [0, 1, 0]
 //! radius = 1
@@ -44,17 +44,23 @@
 //! - `polygon`: `vertices` (≥ 3, planar, may be concave; the first three fix the normal);
 //! - `cone`: `base`, `base_radius`, `apex`, `apex_radius` (no end caps);
 //! - `include`: `path` of a scene file (relative to this file; any format
-//!   [`scene::load`](crate::scene::load) reads), optional `keep_lights`. Its
-//!   primitives take consecutive indices at this point of the file order and
-//!   keep their own materials unless `material` is given; its camera and
+//!   [`scene::load`](crate::scene::load) reads), optional `keep_lights`. The
+//!   file is an instance ([`instance`](crate::scene::instance)): its
+//!   primitives are read once into a mesh, however often the file is
+//!   included (with the same `material`), and each include places that mesh
+//!   under its `transform`; a TOML file that includes in turn brings its own
+//!   instances, their transforms composed with the include's. The mesh keeps
+//!   its own materials unless `material` is given; the file's camera and
 //!   background are ignored, and so are its lights unless `keep_lights = true`.
+//!   Instanced primitives take the ids after the file's own primitives, in
+//!   include order ([`Scene::locate`](crate::scene::Scene::locate)).
 //!
 //! A `transform` is either `matrix` (4×4, row-major, affine) or any of `scale`
 //! (a number or `[sx, sy, sz]`), `rotate` (`{ axis, degrees }`) and `translate`,
 //! applied in that order (M = T·R·S). A transformed sphere, cone or plane becomes
 //! a [`Transformed`](crate::geometry::Transformed) primitive; triangles and
-//! polygons are baked (their vertices transformed), and so are the triangles of
-//! an included file.
+//! polygons are baked (their vertices transformed); an included file keeps its
+//! primitives as they are, in its mesh.
 //!
 //! Errors name the file and the line of the offending value.
 //!

@@ -13,6 +13,7 @@ use toml::de::{DeTable, DeValue, ValueDeserializer};
 
 use crate::geometry::{Cone, Plane, Polygon, Primitive, Sphere, Triangle};
 use crate::scene::error::{SceneError, geometry_message};
+use crate::scene::instance::Mesh;
 use crate::scene::model::{CameraSpec, Light, Material, Scene};
 use crate::scene::native::errors::{line_of, reword, utf8_text};
 use crate::scene::native::scene_files::SceneFiles;
@@ -78,6 +79,7 @@ fn parse_nested(path: &Path, text: &str, nesting: &mut Nesting) -> Result<Scene,
         },
         materials: HashMap::new(),
         default_material: None,
+        included: HashMap::new(),
     };
     let mut document = DeTable::parse(text).map_err(|e| reader.toml_error(&e))?;
     let objects = document.get_mut().remove("objects");
@@ -98,11 +100,23 @@ fn parse_nested(path: &Path, text: &str, nesting: &mut Nesting) -> Result<Scene,
             reader.object(object, nesting)?;
         }
     }
-    if reader.scene.primitives.is_empty() {
+    if reader.scene.id_count() == 0 {
         let end = text.len();
         return Err(reader.error(end..end, "expected at least one object ([[objects]]), found none"));
     }
     Ok(reader.scene)
+}
+
+/// An included file as meshes of the including scene, made once per file
+/// and material override however often it is included.
+#[derive(Clone)]
+struct Adopted {
+    /// Each mesh to place and its transform within the included file.
+    placements: Vec<(u32, Mat4)>,
+    /// The file's lights, for includes with `keep_lights`.
+    lights: Vec<Light>,
+    /// The file's own instance levels.
+    depth: u32,
 }
 
 /// The reader's state while it walks the file.
@@ -110,6 +124,8 @@ struct Reader<'a> {
     path: &'a Path,
     text: &'a str,
     scene: Scene,
+    /// The files included so far, by identity and material override.
+    included: HashMap<(PathBuf, Option<u32>), Adopted>,
     /// Material index by name.
     materials: HashMap<String, u32>,
     /// Index of the default material, added on first use.
@@ -313,7 +329,48 @@ impl Reader<'_> {
         Ok(())
     }
 
-    /// Append the primitives of an included scene file, transformed.
+    /// Make the included scene `included` meshes of this one: its own
+    /// primitives one mesh, and each of its meshes one, their materials
+    /// `material` or the file's (appended to this scene's).
+    fn adopt(&mut self, included: Scene, material: Option<u32>, name: &str) -> Adopted {
+        let material_base = self.scene.materials.len() as u32;
+        if material.is_none() {
+            self.scene.materials.extend_from_slice(&included.materials);
+        }
+        let remap = |of: &[u32]| -> Vec<u32> {
+            of.iter()
+                .map(|&m| material.unwrap_or(material_base + m))
+                .collect()
+        };
+        let mut placements = Vec::new();
+        if !included.primitives.is_empty() {
+            let own = self.scene.add_mesh(Mesh {
+                name: name.to_string(),
+                material_of: remap(&included.material_of),
+                primitives: included.primitives,
+                vertex_normals: included.vertex_normals,
+            });
+            placements.push((own, Mat4::IDENTITY));
+        }
+        let first = self.scene.instances.meshes().len() as u32;
+        for mesh in included.instances.meshes() {
+            self.scene.add_mesh(Mesh {
+                material_of: remap(&mesh.material_of),
+                ..mesh.clone()
+            });
+        }
+        for instance in included.instances.list() {
+            placements.push((first + instance.mesh, instance.to_world));
+        }
+        Adopted {
+            placements,
+            lights: included.lights,
+            depth: included.instances.depth(),
+        }
+    }
+
+    /// Place an included scene file as instances (its meshes made once per
+    /// file, shared by every include of it), transformed.
     fn include(
         &mut self,
         include: IncludeToml,
@@ -346,48 +403,45 @@ impl Reader<'_> {
             self.path.display(),
             line_of(self.text.as_bytes(), span.start)
         );
-        let nested = if relative.to_ascii_lowercase().ends_with(".toml") {
-            load_nested(&path, nesting)
-        } else {
-            nesting.files.load(&path)
-        };
-        let included = nested.map_err(|mut e| {
-            if e.line.is_none() {
-                // The file could not be read at all: point at the include itself.
-                return self.error(
-                    span.clone(),
-                    format!(
-                        "expected a readable scene file at `{relative}`, found: {}",
-                        e.message
-                    ),
-                );
+        let key = (nesting.files.identity(&path), material);
+        let adopted = match self.included.get(&key) {
+            Some(adopted) => adopted.clone(),
+            None => {
+                let nested = if relative.to_ascii_lowercase().ends_with(".toml") {
+                    load_nested(&path, nesting)
+                } else {
+                    nesting.files.load(&path)
+                };
+                let included = nested.map_err(|mut e| {
+                    if e.line.is_none() {
+                        // The file could not be read at all: point at the include itself.
+                        return self.error(
+                            span.clone(),
+                            format!(
+                                "expected a readable scene file at `{relative}`, found: {}",
+                                e.message
+                            ),
+                        );
+                    }
+                    e.message.push_str(&here);
+                    e
+                })?;
+                let adopted = self.adopt(included, material, &relative);
+                self.included.insert(key, adopted.clone());
+                adopted
             }
-            e.message.push_str(&here);
-            e
-        })?;
-        let material_base = self.scene.materials.len() as u32;
-        if material.is_none() {
-            self.scene.materials.extend_from_slice(&included.materials);
+        };
+        // Place each of the file's meshes (its own primitives, and those it
+        // instances in turn, their transforms composed with this one).
+        let m = transform.unwrap_or(Mat4::IDENTITY);
+        for &(mesh, inner) in &adopted.placements {
+            self.scene
+                .place(mesh, m * inner)
+                .map_err(|e| self.error(span.clone(), e.to_string()))?;
         }
-        let first = self.scene.primitives.len() as u32;
-        for (i, prim) in included.primitives.into_iter().enumerate() {
-            let prim = match (prim, transform) {
-                (Primitive::Triangle(t), Some(_)) => {
-                    let [a, b, c] = t.vertices().map(|v| bake_point(v, transform));
-                    Ok(Primitive::Triangle(Triangle::new(a, b, c)))
-                }
-                (prim, transform) => placed(prim, transform),
-            };
-            let prim = prim.map_err(|e| self.error(span.clone(), geometry_message(&e)))?;
-            let material = material.unwrap_or(material_base + included.material_of[i]);
-            self.scene.push(prim, material);
-        }
-        for (index, normals) in included.vertex_normals {
-            let normals = normals.map(|n| bake_normal(n, transform));
-            self.scene.vertex_normals.insert(first + index, normals);
-        }
+        self.scene.instances.nested(adopted.depth + 1);
         if include.keep_lights {
-            self.scene.lights.extend(included.lights.iter().map(|l| Light {
+            self.scene.lights.extend(adopted.lights.iter().map(|l| Light {
                 position: bake_point(l.position, transform),
                 color: l.color,
             }));

@@ -5,8 +5,9 @@
 
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
-use crate::geometry::{GeometryError, Primitive, Transformed};
+use crate::geometry::{GeometryError, Primitive};
 use crate::scene::error::geometry_message;
+use crate::scene::instance::placed_primitive;
 use crate::scene::native::schema::TransformToml;
 
 /// The matrix of a `transform` table, checked to be affine and invertible.
@@ -54,14 +55,10 @@ pub(super) fn transform_matrix(t: TransformToml) -> Result<Mat4, String> {
 
 /// `prim` as it is, or under `transform` (composed with an existing transform).
 pub(super) fn placed(prim: Primitive, transform: Option<Mat4>) -> Result<Primitive, GeometryError> {
-    let Some(m) = transform else {
-        return Ok(prim);
-    };
-    let t = match prim {
-        Primitive::Transformed(inner) => Transformed::new(inner.object().clone(), m * inner.matrix())?,
-        prim => Transformed::new(prim, m)?,
-    };
-    Ok(Primitive::Transformed(Box::new(t)))
+    match transform {
+        Some(m) => placed_primitive(&prim, m),
+        None => Ok(prim),
+    }
 }
 
 /// A vertex under the transform.

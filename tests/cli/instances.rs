@@ -1,0 +1,161 @@
+//! Scenes with instances through the binary: a TOML file including one mesh
+//! several times, and the generated forest up to 10⁹ instanced triangles;
+//! `info` and the render caption say what is instanced, and `bench` times
+//! every engine through its instances.
+
+use crate::support::cli::{raypack, stderr};
+use crate::support::scratch::Scratch;
+
+/// A TOML scene placing `part.nff` (two triangles) three times, once through
+/// a file that includes it in turn (two instance levels).
+fn three_parts() -> Scratch {
+    let dir = Scratch::new("cli-instances");
+    dir.write(
+        "part.nff",
+        "f 1 0 0 1 0 0 0 1\np 3\n0 0 0\n1 0 0\n0 1 0\np 3\n1 0 0\n1 1 0\n0 1 0\n",
+    );
+    dir.write(
+        "pair.toml",
+        "[[objects]]\ntype = \"include\"\npath = \"part.nff\"\ntransform = { translate = [0, 2, 0] }\n",
+    );
+    dir.write(
+        "main.toml",
+        r#"
+[camera]
+eye = [0.5, 1.5, 6]
+center = [0.5, 1.5, 0]
+fovx = 50
+fovy = 50
+width = 64
+height = 64
+
+[[lights]]
+position = [0, 0, 10]
+
+[[objects]]
+type = "include"
+path = "part.nff"
+
+[[objects]]
+type = "include"
+path = "part.nff"
+transform = { translate = [-2, 0, 0], rotate = { axis = [0, 0, 1], degrees = 30 } }
+
+[[objects]]
+type = "include"
+path = "pair.toml"
+"#,
+    );
+    dir
+}
+
+#[test]
+fn info_and_render_say_what_is_instanced() {
+    let dir = three_parts();
+    let main = dir.path().join("main.toml");
+    let main = main.to_str().unwrap();
+    let o = raypack(&["info", main]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(text.contains("primitives  6\n"), "{text}");
+    // part.nff is one mesh (placed twice directly), and one more through pair.toml.
+    assert!(
+        text.contains("instances   3 instances of 2 meshes (depth 2): 4 unique, 6 instanced primitives\n"),
+        "{text}"
+    );
+    let json = raypack(&["info", main, "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(json["instancing"]["instances"], 3);
+    assert_eq!(json["instancing"]["instanced_primitives"], 6);
+
+    let png = dir.path().join("out.png");
+    let stats = dir.path().join("out.json");
+    let (png, stats) = (png.to_str().unwrap(), stats.to_str().unwrap());
+    for kernel in ["scalar", "packet8", "packet16"] {
+        let o = raypack(&[
+            "render",
+            main,
+            "-o",
+            png,
+            "--kernel",
+            kernel,
+            "--stats-json",
+            stats,
+        ]);
+        assert!(o.status.success(), "{kernel}: {}", stderr(&o));
+        let report: serde_json::Value = serde_json::from_slice(&std::fs::read(stats).unwrap()).unwrap();
+        assert_eq!(report["primitives"], 6);
+        assert_eq!(report["instancing"]["depth"], 2);
+        assert!(
+            report["rays"]["eye_hits"].as_u64().unwrap() > 64 * 64 / 20,
+            "{report}"
+        );
+    }
+}
+
+#[test]
+fn a_billion_instanced_triangles_load_and_render() {
+    let dir = Scratch::new("cli-forest");
+    let json = raypack(&["info", "gen:forest:56000", "--json"]);
+    assert!(json.status.success(), "{}", stderr(&json));
+    let json: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let instancing = &json["instancing"];
+    assert!(
+        instancing["instanced_primitives"].as_u64().unwrap() > 1_000_000_000,
+        "{json}"
+    );
+    assert!(
+        instancing["unique_primitives"].as_u64().unwrap() < 30_000,
+        "{json}"
+    );
+    let png = dir.path().join("forest.png");
+    let o = raypack(&[
+        "render",
+        "gen:forest:56000",
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "96x96",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn bench_scene_times_instanced_scenes() {
+    let o = raypack(&[
+        "bench",
+        "scene",
+        "gen:forest:200",
+        "--size",
+        "48x48",
+        "--runs",
+        "1",
+        "--threads",
+        "1",
+        "--rays",
+        "primary,shadow,random",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let result: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = result["rows"].as_array().unwrap();
+    assert!(!rows.is_empty());
+    for row in rows {
+        assert!(row["median"].as_f64().unwrap() > 0.0, "{row}");
+    }
+}
+
+#[test]
+fn a_bad_instance_transform_names_the_include() {
+    let dir = Scratch::new("cli-instances-bad");
+    dir.write("part.nff", "p 3\n0 0 0\n1 0 0\n0 1 0\n");
+    let main = dir.write(
+        "main.toml",
+        "[[objects]]\ntype = \"include\"\npath = \"part.nff\"\ntransform = { scale = [1, 0, 1] }\n",
+    );
+    let o = raypack(&["info", main.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("main.toml:4") && e.contains("singular"), "{e}");
+    assert!(o.stdout.is_empty());
+}
