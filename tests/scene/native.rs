@@ -345,6 +345,67 @@ fn includes_from_memory_give_the_scene_from_disk() {
     }
 }
 
+/// Named meshes: `instance` objects place a `[meshes]` file, read once; the
+/// object's material overrides the mesh's; unknown names are errors at their line.
+#[test]
+fn instances_place_named_meshes() {
+    let mut files = loader::InMemory::new();
+    files.insert("part.nff", "f 0 1 0 1 0 0 0 1\np 3\n0 0 0\n1 0 0\n0 1 0\n");
+    let main = r#"
+[materials.blue]
+color = [0, 0, 1]
+
+[materials.red]
+color = [1, 0, 0]
+
+[meshes.part]
+path = "part.nff"
+material = "blue"
+
+[[objects]]
+type = "instance"
+mesh = "part"
+
+[[objects]]
+type = "instance"
+mesh = "part"
+transform = { translate = [5, 0, 0] }
+
+[[objects]]
+type = "instance"
+mesh = "part"
+material = "red"
+"#;
+    files.insert("main.toml", main);
+    let s = native::load_from(Path::new("main.toml"), &files).unwrap();
+    let summary = s.instancing_summary().unwrap();
+    assert_eq!(
+        (summary.instances, summary.meshes),
+        (3, 2),
+        "one mesh per material"
+    );
+    assert_eq!(s.id_count(), 3);
+    assert_eq!(s.material(0).color, Vec3::Z);
+    assert_eq!(s.material(1).color, Vec3::Z);
+    assert_eq!(s.material(2).color, Vec3::X);
+    let moved = s.flattened().unwrap().primitives[1].bounds().unwrap();
+    assert!(
+        (moved.max - Vec3::new(6.0, 1.0, 0.0)).abs().max_element() < 1e-5,
+        "{moved:?}"
+    );
+
+    let unknown = main.replace("mesh = \"part\"\ntransform", "mesh = \"prat\"\ntransform");
+    files.insert("bad.toml", unknown.as_str());
+    let e = native::load_from(Path::new("bad.toml"), &files).unwrap_err();
+    assert_eq!(e.line, Some(18), "{e}");
+    assert!(e.message.contains("[meshes] (part), found `prat`"), "{e}");
+    let no_material = main.replace("material = \"blue\"", "material = \"green\"");
+    files.insert("bad2.toml", no_material.as_str());
+    let e = native::load_from(Path::new("bad2.toml"), &files).unwrap_err();
+    assert_eq!(e.line, Some(10), "{e}");
+    assert!(e.message.contains("found `green`"), "{e}");
+}
+
 /// In memory, cycles are found through `.` and `..`; a missing file is an
 /// error at the include; and nesting stops at the documented depth.
 #[test]
@@ -454,7 +515,7 @@ fn wrong_types_and_unknown_keys() {
     fails(
         &format!("{SPHERE}[[objects]]\ntype = \"torus\"\n"),
         6,
-        "expected an object type (sphere, plane, triangle, polygon, cone or include), found `torus`",
+        "expected an object type (sphere, plane, triangle, polygon, cone, include or instance), found `torus`",
     );
 }
 

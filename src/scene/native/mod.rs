@@ -26,8 +26,12 @@
 //! position = [4, 6, 4]
 //! color = [1, 1, 1]                   # optional, default white
 //!
+//! [meshes.gem]                        # optional: a file that `instance` objects place
+//! path = "icosahedron.nff"
+//! material = "red"                    # optional, default: the file's own
+//!
 //! [[objects]]                         # one primitive each, numbered in file order (includes after)
-//! type = "sphere"                     # sphere | plane | triangle | polygon | cone | include
+//! type = "sphere"                     # sphere | plane | triangle | polygon | cone | include | instance
 //! center = [0, 1, 0]
 //! radius = 1
 //! inside_only = false                 # optional: NFF's negative radius
@@ -54,6 +58,11 @@
 //!   background are ignored, and so are its lights unless `keep_lights = true`.
 //!   Instanced primitives take the ids after the file's own primitives, in
 //!   include order ([`Scene::locate`](crate::scene::Scene::locate)).
+//!
+//! - `instance`: `mesh`, the name of a mesh defined under `[meshes]`
+//!   (`[meshes.tree]` with `path` and an optional `material`): the same as an
+//!   `include` of that file, which each `instance` of it places again
+//!   (an object's own `material` overrides the mesh's).
 //!
 //! A `transform` is either `matrix` (4×4, row-major, affine) or any of `scale`
 //! (a number or `[sx, sy, sz]`), `rotate` (`{ axis, degrees }`) and `translate`,

@@ -18,8 +18,8 @@ use crate::scene::model::{CameraSpec, Light, Material, Scene};
 use crate::scene::native::errors::{line_of, reword, utf8_text};
 use crate::scene::native::scene_files::SceneFiles;
 use crate::scene::native::schema::{
-    ConeToml, FileToml, IncludeToml, PlaneToml, PolygonToml, SphereToml, TomlVec3, TransformToml,
-    TriangleToml,
+    ConeToml, FileToml, IncludeToml, InstanceToml, PlaneToml, PolygonToml, SphereToml, TomlVec3,
+    TransformToml, TriangleToml,
 };
 use crate::scene::native::transform::{bake_normal, bake_point, placed, transform_matrix};
 
@@ -79,6 +79,7 @@ fn parse_nested(path: &Path, text: &str, nesting: &mut Nesting) -> Result<Scene,
         },
         materials: HashMap::new(),
         default_material: None,
+        meshes: HashMap::new(),
         included: HashMap::new(),
     };
     let mut document = DeTable::parse(text).map_err(|e| reader.toml_error(&e))?;
@@ -124,6 +125,8 @@ struct Reader<'a> {
     path: &'a Path,
     text: &'a str,
     scene: Scene,
+    /// The named meshes (`[meshes.NAME]`): their file and material override.
+    meshes: HashMap<String, (Spanned<String>, Option<u32>)>,
     /// The files included so far, by identity and material override.
     included: HashMap<(PathBuf, Option<u32>), Adopted>,
     /// Material index by name.
@@ -180,6 +183,23 @@ impl Reader<'_> {
             self.materials
                 .insert(name, (self.scene.materials.len() - 1) as u32);
         }
+        for (name, mesh) in file.meshes {
+            let material = match mesh.material {
+                Some(m) => {
+                    let span = m.span();
+                    let m = m.into_inner();
+                    let index = self.materials.get(&m).copied().ok_or_else(|| {
+                        self.error(
+                            span,
+                            format!("expected the name of a material defined under [materials], found `{m}`"),
+                        )
+                    })?;
+                    Some(index)
+                }
+                None => None,
+            };
+            self.meshes.insert(name, (mesh.path, material));
+        }
         for light in file.lights {
             self.scene.lights.push(Light {
                 position: light.position.0,
@@ -213,7 +233,7 @@ impl Reader<'_> {
         let DeValue::Table(mut table) = value.into_inner() else {
             return Err(self.error(span, "expected each object to be a table, found another value"));
         };
-        const TYPES: &str = "sphere, plane, triangle, polygon, cone or include";
+        const TYPES: &str = "sphere, plane, triangle, polygon, cone, include or instance";
         let kind = table.remove("type").ok_or_else(|| {
             self.error(
                 span.clone(),
@@ -314,6 +334,36 @@ impl Reader<'_> {
             "include" => {
                 let include: IncludeToml = self.deserialize(fields)?;
                 let material = material.map(|m| self.material(Some(m))).transpose()?;
+                return self.include(include, material, transform, nesting);
+            }
+            "instance" => {
+                let instance: InstanceToml = self.deserialize(fields)?;
+                let name = instance.mesh.get_ref();
+                let Some((path, mesh_material)) = self.meshes.get(name).cloned() else {
+                    let mut names: Vec<&str> = self.meshes.keys().map(String::as_str).collect();
+                    names.sort_unstable();
+                    return Err(self.error(
+                        instance.mesh.span(),
+                        match names.is_empty() {
+                            true => format!(
+                                "expected a mesh defined under [meshes], found `{name}` (there are none)"
+                            ),
+                            false => format!(
+                                "expected the name of a mesh defined under [meshes] ({}), found `{name}`",
+                                names.join(", ")
+                            ),
+                        },
+                    ));
+                };
+                // The object's own material overrides the mesh's.
+                let material = match material {
+                    Some(m) => Some(self.material(Some(m))?),
+                    None => mesh_material,
+                };
+                let include = IncludeToml {
+                    path,
+                    keep_lights: false,
+                };
                 return self.include(include, material, transform, nesting);
             }
             other => {

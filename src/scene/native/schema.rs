@@ -50,6 +50,22 @@ pub(super) struct FileToml {
     pub(super) materials: BTreeMap<String, MaterialToml>,
     #[serde(default)]
     pub(super) lights: Vec<LightToml>,
+    #[serde(default)]
+    pub(super) meshes: BTreeMap<String, MeshToml>,
+}
+
+/// A named mesh (`[meshes.NAME]`): a scene file that `instance` objects place.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct MeshToml {
+    pub(super) path: Spanned<String>,
+    pub(super) material: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct InstanceToml {
+    pub(super) mesh: Spanned<String>,
 }
 
 #[derive(Deserialize)]
