@@ -29,13 +29,13 @@ seconds=$1
 shift
 targets=("$@")
 if [[ ${#targets[@]} -eq 0 ]]; then
-    targets=(nff obj ply toml rays_csv pipeline)
+    targets=(nff obj ply toml gltf rays_csv pipeline)
 fi
 
 # The longest input tried, per target: room for a small scene with some of
 # everything; longer inputs mostly repeat what shorter ones cover, slower.
 declare -A max_len=(
-    [nff]=16384 [obj]=16384 [ply]=16384 [toml]=16384 [rays_csv]=4096 [pipeline]=8192
+    [nff]=16384 [obj]=16384 [ply]=16384 [toml]=16384 [gltf]=16384 [rays_csv]=4096 [pipeline]=8192
 )
 
 # The fuzz build has the portable instruction-set level only (`cfg(fuzzing)`,

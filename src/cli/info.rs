@@ -35,6 +35,9 @@ struct Report<'a> {
     /// Instances, meshes, unique and instanced counts, and bytes per level.
     #[serde(skip_serializing_if = "Option::is_none")]
     instancing: Option<InstancingSummary>,
+    /// What the reader left out or changed.
+    #[serde(skip_serializing_if = "<[String]>::is_empty")]
+    notes: &'a [String],
     counts: BTreeMap<PrimitiveKind, usize>,
     /// Triangles with per-vertex shading normals.
     smooth_triangles: usize,
@@ -74,6 +77,7 @@ fn report(scene: &Scene, load_seconds: f64) -> Report<'_> {
         load_seconds,
         primitives: scene.id_count(),
         instancing: scene.instancing_summary(),
+        notes: &scene.notes,
         counts: scene.counts().into_iter().collect(),
         smooth_triangles: scene.vertex_normals.len(),
         bounds: (!bounds.is_empty()).then_some(Bounds {
@@ -130,6 +134,9 @@ fn text(r: &Report) -> String {
             megabytes(i.instance_bytes),
             megabytes(i.mesh_bytes)
         );
+    }
+    for note in r.notes {
+        out += &format!("note        {note}\n");
     }
     if r.smooth_triangles > 0 {
         out += &format!("  ({} triangles with vertex normals)\n", r.smooth_triangles);

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use crate::scene::error::SceneError;
 use crate::scene::model::Scene;
 use crate::scene::native::{self, SceneFiles};
-use crate::scene::{nff, obj, ply};
+use crate::scene::{gltf, nff, obj, ply};
 
 /// The scene formats, as [`load`] tells them by file extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -17,6 +17,7 @@ enum Format {
     Toml,
     Obj,
     Ply,
+    Gltf,
 }
 
 /// The format of the file at `path`, by extension (`.ply.gz` is PLY).
@@ -32,9 +33,10 @@ fn format_of(path: &Path) -> Result<Format, SceneError> {
         "toml" => Ok(Format::Toml),
         "obj" => Ok(Format::Obj),
         "ply" | "ply.gz" => Ok(Format::Ply),
+        "gltf" | "glb" => Ok(Format::Gltf),
         _ => Err(SceneError::file(
             path,
-            "unknown scene format (expected .nff, .obj, .ply, .ply.gz or .toml)",
+            "unknown scene format (expected .nff, .obj, .ply, .ply.gz, .gltf, .glb or .toml)",
         )),
     }
 }
@@ -46,6 +48,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         Format::Toml => native::load_from(path, &FileSystem),
         Format::Obj => obj::load(path),
         Format::Ply => ply::load(path),
+        Format::Gltf => gltf::load(path),
     }
 }
 
@@ -59,6 +62,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
         Format::Toml => native::parse_from(path, native::utf8_text(path, bytes)?, &FileSystem),
         Format::Obj => obj::parse(path, bytes),
         Format::Ply => ply::parse(path, bytes),
+        Format::Gltf => gltf::parse(path, bytes),
     }
 }
 

@@ -10,6 +10,7 @@
 
 mod error;
 pub mod generate;
+pub mod gltf;
 mod input;
 pub mod instance;
 pub mod loader;

@@ -156,6 +156,9 @@ pub struct Scene {
     pub source: String,
     /// Meshes placed by instances (none in a scene without instances).
     pub instances: Instances,
+    /// What the reader left out or changed, one line each (glTF's points and
+    /// lines, unsupported extensions…), for `info`.
+    pub notes: Vec<String>,
 }
 
 /// What a primitive id names ([`Scene::locate`]).

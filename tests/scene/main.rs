@@ -10,6 +10,7 @@ use raypack::geometry::{Primitive, PrimitiveKind};
 use raypack::scene::Scene;
 
 mod files;
+mod gltf;
 mod native;
 mod nff;
 mod obj;
