@@ -57,6 +57,15 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// external buffers.
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
     let fail = |message: String| SceneError::file(path, message);
+    // A GLB header whose total length is below the header's own 12 bytes
+    // underflows inside the gltf crate (1.4.1): refused here first.
+    if let Some(length) = glb_length(bytes)
+        && length < 12
+    {
+        return Err(fail(format!(
+            "expected a GLB length of at least its 12-byte header, found {length}"
+        )));
+    }
     let gltf = ::gltf::Gltf::from_slice(bytes)
         .map_err(|e| fail(format!("expected a valid glTF 2.0 file, found: {e}")))?;
     let document = &gltf.document;
@@ -449,6 +458,12 @@ fn buffers(path: &Path, document: &::gltf::Document, blob: Option<&[u8]>) -> Res
             Ok(data)
         })
         .collect()
+}
+
+/// The total length a GLB header states, if `bytes` start with one.
+fn glb_length(bytes: &[u8]) -> Option<u32> {
+    let header = bytes.get(..12).filter(|h| h.starts_with(b"glTF"))?;
+    Some(u32::from_le_bytes(header[8..12].try_into().ok()?))
 }
 
 /// The bytes of standard base64 text (padding optional); None on another character.

@@ -213,6 +213,13 @@ fn malformed_files_are_refused_with_the_json_path() {
             "{e}\nwanted: {needle}"
         );
     }
+    // A fuzz finding: a GLB header stating a length below its own 12 bytes.
+    let e = scene::load(&crate::data("fuzz/gltf_length_below_header.glb")).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("expected a GLB length of at least its 12-byte header, found 0"),
+        "{e}"
+    );
     // Not JSON, and a GLB cut short.
     assert!(parse(&json!("nothing")).is_err());
     let glb = to_glb(&good);
