@@ -66,6 +66,11 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<Scene, SceneError> {
             "expected a GLB length of at least its 12-byte header, found {length}"
         )));
     }
+    // gltf-json 1.4.1's validation reads a POSITION accessor without a bounds
+    // check (mesh.rs:151): such an index is refused here first.
+    if let Ok(unchecked) = ::gltf::Gltf::from_slice_without_validation(bytes) {
+        position_accessors_exist(unchecked.document.as_json()).map_err(fail)?;
+    }
     let gltf = ::gltf::Gltf::from_slice(bytes)
         .map_err(|e| fail(format!("expected a valid glTF 2.0 file, found: {e}")))?;
     let document = &gltf.document;
@@ -458,6 +463,25 @@ fn buffers(path: &Path, document: &::gltf::Document, blob: Option<&[u8]>) -> Res
             Ok(data)
         })
         .collect()
+}
+
+/// Every primitive's POSITION attribute names an accessor that exists.
+fn position_accessors_exist(root: &::gltf::json::Root) -> Result<(), String> {
+    let position = ::gltf::json::validation::Checked::Valid(Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&position)
+                && index.value() >= root.accessors.len()
+            {
+                return Err(format!(
+                    "meshes[{m}].primitives[{p}].attributes.POSITION: expected one of the {} accessors, found {}",
+                    root.accessors.len(),
+                    index.value()
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The total length a GLB header states, if `bytes` start with one.

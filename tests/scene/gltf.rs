@@ -220,6 +220,20 @@ fn malformed_files_are_refused_with_the_json_path() {
             .contains("expected a GLB length of at least its 12-byte header, found 0"),
         "{e}"
     );
+    // A fuzz finding: POSITION naming an accessor that does not exist.
+    let e = scene::load(&crate::data("fuzz/gltf_position_accessor_missing.gltf")).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains(".attributes.POSITION: expected one of the 0 accessors"),
+        "{e}"
+    );
+    let mut missing = good.clone();
+    missing["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(7);
+    let e = parse(&missing).unwrap_err();
+    assert!(
+        e.contains("meshes[0].primitives[0].attributes.POSITION: expected one of the 2 accessors, found 7"),
+        "{e}"
+    );
     // Not JSON, and a GLB cut short.
     assert!(parse(&json!("nothing")).is_err());
     let glb = to_glb(&good);
