@@ -38,6 +38,13 @@ pub trait Counter {
     /// packet being traced, finishing a subtree on its own: lets a counter
     /// charge each lane its own work (the totals do not need it).
     fn lane(&mut self, lane: usize);
+    /// The events until [`leave_instance`](Self::leave_instance) are a mesh's
+    /// walk inside instances ([`TwoLevel`](crate::accel::TwoLevel)): its rays
+    /// and packets were counted when they entered the top level, and starting
+    /// again in each instance they meet does not count them twice.
+    fn enter_instance(&mut self);
+    /// Back at the top level: rays and packets count again.
+    fn leave_instance(&mut self);
 }
 
 /// The counter that counts nothing (0 bytes): the plain queries use it.
@@ -61,6 +68,10 @@ impl Counter for NoStats {
     fn fallback(&mut self, _: u64) {}
     #[inline(always)]
     fn lane(&mut self, _: usize) {}
+    #[inline(always)]
+    fn enter_instance(&mut self) {}
+    #[inline(always)]
+    fn leave_instance(&mut self) {}
 }
 
 /// What the ray queries of a tile, an image or one ray cost. 64 bytes.

@@ -21,6 +21,8 @@ pub const COUNTED_LANES: usize = 16;
 pub struct TraversalCounter {
     total: TraversalStats,
     lanes: Option<Box<LaneCosts>>,
+    /// Inside instances: rays and packets starting there are not counted again.
+    inside_instances: bool,
 }
 
 /// Each lane's cost, and where events are charged. 144 bytes.
@@ -104,11 +106,15 @@ impl TraversalCounter {
 impl Counter for TraversalCounter {
     #[inline(always)]
     fn rays(&mut self, n: u64) {
-        self.total.rays += n;
+        if !self.inside_instances {
+            self.total.rays += n;
+        }
     }
     #[inline(always)]
     fn packet(&mut self) {
-        self.total.packets += 1;
+        if !self.inside_instances {
+            self.total.packets += 1;
+        }
     }
     #[inline(always)]
     fn node(&mut self) {
@@ -139,6 +145,14 @@ impl Counter for TraversalCounter {
         if let Some(lanes) = self.lanes.as_deref_mut() {
             lanes.single = lanes.first + lane;
         }
+    }
+    #[inline(always)]
+    fn enter_instance(&mut self) {
+        self.inside_instances = true;
+    }
+    #[inline(always)]
+    fn leave_instance(&mut self) {
+        self.inside_instances = false;
     }
 }
 

@@ -359,8 +359,51 @@ impl<B: Accel> TwoLevel<B> {
     }
 }
 
+/// Count `rays` rays (and a packet, for a packet) starting at the top level,
+/// then run `walk` with the meshes' walks inside instances not counting them
+/// again (a ray meeting five instances is one ray).
+#[inline(always)]
+fn counted_once<S: Counter, T>(stats: &mut S, rays: u64, packet: bool, walk: impl FnOnce(&mut S) -> T) -> T {
+    if packet {
+        stats.packet();
+    }
+    stats.rays(rays);
+    stats.enter_instance();
+    let result = walk(stats);
+    stats.leave_instance();
+    result
+}
+
 impl<B: Accel> Accel for TwoLevel<B> {
     fn intersect_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
+        counted_once(stats, 1, false, |stats| self.intersect_walk(ray, stats))
+    }
+
+    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        stats: &mut S,
+    ) -> HitPacket<F> {
+        let lanes = u64::from(rays.active.bitmask().count_ones());
+        counted_once(stats, lanes, true, |stats| {
+            self.intersect_packet_walk(rays, stats)
+        })
+    }
+
+    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
+        counted_once(stats, 1, false, |stats| self.occluded_walk(ray, stats))
+    }
+
+    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
+        let lanes = u64::from(rays.active.bitmask().count_ones());
+        counted_once(stats, lanes, true, |stats| self.occluded_packet_walk(rays, stats))
+    }
+}
+
+impl<B: Accel> TwoLevel<B> {
+    /// The nearest hit of `ray`: the scene's own primitives, then every instance it reaches.
+    #[inline(always)]
+    fn intersect_walk<S: Counter>(&self, ray: &Ray, stats: &mut S) -> Hit {
         let mut hit = self.own.intersect_counted(ray, stats);
         for p in &self.unbounded {
             self.intersect_instance(p, ray, &mut hit, stats);
@@ -374,7 +417,9 @@ impl<B: Accel> Accel for TwoLevel<B> {
         hit
     }
 
-    fn intersect_packet_counted<F: SimdFloat, S: Counter>(
+    /// The nearest hits of the packet's lanes.
+    #[inline(always)]
+    fn intersect_packet_walk<F: SimdFloat, S: Counter>(
         &self,
         rays: &RayPacket<F>,
         stats: &mut S,
@@ -398,7 +443,9 @@ impl<B: Accel> Accel for TwoLevel<B> {
         hits.get()
     }
 
-    fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
+    /// Whether anything blocks `ray`.
+    #[inline(always)]
+    fn occluded_walk<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         if self.own.occluded_counted(ray, stats)
             || self.unbounded.iter().any(|p| self.occludes(p, ray, stats))
         {
@@ -412,7 +459,9 @@ impl<B: Accel> Accel for TwoLevel<B> {
         blocked
     }
 
-    fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
+    /// The blocked lanes of the packet.
+    #[inline(always)]
+    fn occluded_packet_walk<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
         let blocked = std::cell::Cell::new(self.own.occluded_packet_counted(rays, stats) & rays.active);
         let visit = |p: &Placed, lanes: F, stats: &mut S| {
             let (local, _) = p.object_packet(rays, lanes, rays.t_max);

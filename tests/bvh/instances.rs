@@ -174,3 +174,23 @@ fn a_scene_past_32_bit_ids_is_refused() {
         .unwrap_err();
     assert!(e.to_string().contains("singular"), "{e}");
 }
+
+#[test]
+fn a_ray_through_many_instances_counts_once() {
+    use raypack::accel::TraversalCounter;
+    let scene = instanced_scene(5);
+    let two_level = TwoLevel::new(&scene, Bvh::new);
+    let rays = random_rays(scene.bounds(), 64, 6);
+    let mut single = TraversalCounter::totals();
+    for ray in &rays {
+        two_level.intersect_counted(ray, &mut single);
+        two_level.occluded_counted(ray, &mut single);
+    }
+    assert_eq!(single.total().rays, 128);
+    assert!(single.total().nodes_visited > 128, "the walks' nodes still count");
+    let mut packets = TraversalCounter::totals();
+    for chunk in rays.chunks(8) {
+        two_level.intersect_packet_counted(&RayPacket::<f32x8>::from_rays(chunk), &mut packets);
+    }
+    assert_eq!((packets.total().rays, packets.total().packets), (64, 8));
+}
