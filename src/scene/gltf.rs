@@ -405,13 +405,23 @@ fn corners(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
     }
 }
 
-/// `accessor`'s component type is one of `types` and its shape `dimensions`.
+/// `accessor` holds at least one element, its component type is one of
+/// `types` and its shape `dimensions`.
 fn check_type(
     accessor: &::gltf::Accessor,
     types: &[DataType],
     dimensions: Dimensions,
     what: &str,
 ) -> Result<(), String> {
+    // The schema asks for at least one element (and one sparse element);
+    // the gltf crate's reader subtracts 1 from both unchecked.
+    let sparse_count = accessor.sparse().map_or(1, |sparse| sparse.count());
+    if accessor.count() == 0 || sparse_count == 0 {
+        return Err(format!(
+            "{what} (accessor {}): expected a count of at least 1, found 0",
+            accessor.index()
+        ));
+    }
     if types.contains(&accessor.data_type()) && accessor.dimensions() == dimensions {
         return Ok(());
     }

@@ -240,6 +240,10 @@ mod entry {
             }
 
             #[doc = concat!("`task` compiled for [`Isa::", stringify!($isa), "`].")]
+            // Never inlined, even into another level's task of the same
+            // instructions (a two-level query's mesh walks): a task's code is
+            // compiled once, not once per caller.
+            #[inline(never)]
             #[target_feature(enable = $features)]
             pub fn $entry<T: LevelTask>(task: T) -> T::Output {
                 task.run::<$lanes>()

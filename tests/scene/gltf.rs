@@ -227,6 +227,21 @@ fn malformed_files_are_refused_with_the_json_path() {
             .contains(".attributes.POSITION: expected one of the 0 accessors"),
         "{e}"
     );
+    // A fuzz finding: an accessor of no elements (the gltf crate's reader
+    // computes its end as offset + stride × (count − 1)).
+    let e = scene::load(&crate::data("fuzz/gltf_accessor_count_zero.glb")).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains(".attributes.POSITION (accessor 0): expected a count of at least 1, found 0"),
+        "{e}"
+    );
+    let mut empty = good.clone();
+    empty["accessors"][1]["count"] = json!(0);
+    let e = parse(&empty).unwrap_err();
+    assert!(
+        e.contains(".indices (accessor 1): expected a count of at least 1, found 0"),
+        "{e}"
+    );
     let mut missing = good.clone();
     missing["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(7);
     let e = parse(&missing).unwrap_err();

@@ -5,6 +5,7 @@
 use rayon::prelude::*;
 
 use crate::accel::bvh::build_sah::{self, BuildOptions};
+use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::leaf_store::LeafStore;
 use crate::accel::bvh::node::{Node, NodePair};
 use crate::accel::bvh::tree::Bvh;
@@ -83,5 +84,33 @@ impl Bvh {
         bvh.ray_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
         bvh.packet_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
         bvh
+    }
+
+    /// A tree over `boxes` with no primitives of its own, for the top level
+    /// of [`TwoLevel`](crate::accel::TwoLevel): its leaves are ranges of
+    /// items in leaf order (item `i` is box `order[i]`, `order` returned), and
+    /// its unbounded leaf the `unbounded` items after them, which every ray
+    /// visits first. Its queries' leaves are handed to the caller's
+    /// [`RayQuery`](super::query::RayQuery) or [`PacketQuery`](super::query::PacketQuery).
+    pub fn over_boxes(boxes: &[Aabb], unbounded: usize, options: &BuildOptions) -> (Self, Vec<u32>) {
+        let (pairs, order) = if boxes.is_empty() {
+            (vec![NodePair([Node::EMPTY; 2])], Vec::new())
+        } else {
+            let built = build_sah::build(boxes, options);
+            (built.pairs, built.order)
+        };
+        let mut bvh = Self {
+            pairs,
+            ray_tree: Vec::new(),
+            packet_tree: Vec::new(),
+            leaves: LeafStore::default(),
+            unbounded: LeafRef::Prims(order.len()..order.len() + unbounded),
+            bounded: order.len(),
+            skipped: 0,
+            isa: Isa::default_level(),
+        };
+        bvh.ray_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
+        bvh.packet_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
+        (bvh, order)
     }
 }

@@ -125,6 +125,7 @@ macro_rules! at_width {
         }
     };
 }
+pub(crate) use at_width;
 
 /// The nearest hits of the active lanes of `rays`, in the lanes `G`.
 #[inline(always)]

@@ -30,7 +30,9 @@ pub fn leaf_lane_by_lane<F: SimdFloat, Q: LaneQueries<F>, S: Counter>(
         stats.lane(lane);
         let ray = query.rays().ray(lane);
         let mut hit = query.start(lane, &ray);
-        let ended = Q::query(&ray, &mut hit).leaf::<F::Lanes8, S>(bvh, leaf.clone(), stats);
+        let ended = query
+            .query(&ray, &mut hit)
+            .leaf::<F::Lanes8, S>(bvh, leaf.clone(), stats);
         query.end(lane, &hit, ended);
     }
 }
@@ -55,7 +57,7 @@ pub fn finish_lanes<F: SimdFloat, Q: LaneQueries<F>, W: TreeWidth, S: Counter>(
             let mut hit = query.start(lane, &ray);
             let slab = SlabRay::new(&ray);
             let ended =
-                traverse::<F::Lanes8, W, _, S>(bvh, start, &slab, &mut Q::query(&ray, &mut hit), stats);
+                traverse::<F::Lanes8, W, _, S>(bvh, start, &slab, &mut query.query(&ray, &mut hit), stats);
             query.end(lane, &hit, ended);
         }
         return;
@@ -72,7 +74,7 @@ pub fn finish_lanes<F: SimdFloat, Q: LaneQueries<F>, W: TreeWidth, S: Counter>(
         let mut walks: [(usize, SlabRay, Q::Lane<'_>); INTERLEAVED] = std::array::from_fn(|k| {
             let ray = &rays[k];
             let hit = records.next().expect("one record per walk");
-            (group[k], SlabRay::new(ray), Q::query(ray, hit))
+            (group[k], SlabRay::new(ray), query.query(ray, hit))
         });
         let ended = traverse_interleaved::<F::Lanes8, W, _, S>(bvh, start, &mut walks[..count], stats);
         drop(walks);

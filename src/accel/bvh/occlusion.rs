@@ -55,7 +55,10 @@ struct AnyHitPacket<F: SimdFloat> {
 }
 
 impl<F: SimdFloat> LaneQueries<F> for AnyHitPacket<F> {
-    type Lane<'a> = AnyHit<'a>;
+    type Lane<'a>
+        = AnyHit<'a>
+    where
+        Self: 'a;
 
     #[inline(always)]
     fn rays(&self) -> &RayPacket<F> {
@@ -68,7 +71,7 @@ impl<F: SimdFloat> LaneQueries<F> for AnyHitPacket<F> {
     }
 
     #[inline(always)]
-    fn query<'a>(ray: &'a Ray, hit: &'a mut Hit) -> AnyHit<'a> {
+    fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> AnyHit<'a> {
         AnyHit { ray, hit }
     }
 

@@ -32,7 +32,9 @@ pub trait RayQuery {
 /// [`lanes`](crate::accel::bvh::lanes), for nearest and any hit).
 pub trait LaneQueries<F: SimdFloat> {
     /// The single-ray query a lane runs.
-    type Lane<'a>: RayQuery;
+    type Lane<'a>: RayQuery
+    where
+        Self: 'a;
 
     /// The packet's rays.
     fn rays(&self) -> &RayPacket<F>;
@@ -41,7 +43,7 @@ pub trait LaneQueries<F: SimdFloat> {
     fn start(&self, lane: usize, ray: &Ray) -> Hit;
 
     /// The single-ray query of `ray` keeping its record in `hit`.
-    fn query<'a>(ray: &'a Ray, hit: &'a mut Hit) -> Self::Lane<'a>;
+    fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> Self::Lane<'a>;
 
     /// Take lane `lane`'s result back: its record, and whether its query ended early.
     fn end(&mut self, lane: usize, hit: &Hit, ended_early: bool);

@@ -161,7 +161,10 @@ pub struct NearestPacket<'a, F: SimdFloat> {
 }
 
 impl<F: SimdFloat> LaneQueries<F> for NearestPacket<'_, F> {
-    type Lane<'a> = Nearest<'a>;
+    type Lane<'a>
+        = Nearest<'a>
+    where
+        Self: 'a;
 
     #[inline(always)]
     fn rays(&self) -> &RayPacket<F> {
@@ -174,7 +177,7 @@ impl<F: SimdFloat> LaneQueries<F> for NearestPacket<'_, F> {
     }
 
     #[inline(always)]
-    fn query<'a>(ray: &'a Ray, hit: &'a mut Hit) -> Nearest<'a> {
+    fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> Nearest<'a> {
         Nearest { ray, hit }
     }
 
