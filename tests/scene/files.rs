@@ -182,10 +182,16 @@ fn fuzz_findings_load_or_fail_cleanly() {
         ("gltf_length_below_header.glb", Err("")),
         // POSITION naming an accessor that does not exist: gltf-json indexed
         // it unchecked (fuzz target gltf); tests/scene/gltf.rs has the message.
-        ("gltf_position_accessor_missing.gltf", Err("expected one of the 0 accessors")),
+        (
+            "gltf_position_accessor_missing.gltf",
+            Err("expected one of the 0 accessors"),
+        ),
         // An accessor of no elements: the gltf crate's reader computed its end
         // as offset + stride × (count − 1) (fuzz target gltf).
-        ("gltf_accessor_count_zero.glb", Err("expected a count of at least 1, found 0")),
+        (
+            "gltf_accessor_count_zero.glb",
+            Err("expected a count of at least 1, found 0"),
+        ),
     ];
     let mut listed: Vec<&str> = findings.iter().map(|(name, _)| *name).collect();
     listed.sort();
