@@ -11,6 +11,7 @@
 mod error;
 pub mod generate;
 pub mod gltf;
+pub mod gltf_writer;
 mod input;
 pub mod instance;
 pub mod loader;

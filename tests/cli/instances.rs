@@ -159,3 +159,63 @@ fn a_bad_instance_transform_names_the_include() {
     assert!(e.contains("main.toml:4") && e.contains("singular"), "{e}");
     assert!(o.stdout.is_empty());
 }
+
+/// `gen forest` writes glTF (binary or JSON by the file name, JSON to
+/// stdout), which `info` reads back as the same instances as `gen:forest`;
+/// NFF, which has no instances, is refused, as is glTF for a scene of
+/// spheres on a polygon floor, each with nothing written.
+#[test]
+fn gen_forest_writes_gltf_that_reads_back_as_the_same_instances() {
+    let dir = Scratch::new("cli-gen-forest");
+    let instancing = |scene: &str| {
+        let o = raypack(&["info", scene, "--json"]);
+        assert!(o.status.success(), "{scene}: {}", stderr(&o));
+        let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        json["instancing"].clone()
+    };
+    let expected = instancing("gen:forest:300:7");
+    assert_eq!(expected["instances"], 300, "{expected}");
+    for name in ["forest.glb", "forest.gltf"] {
+        let path = dir.path().join(name);
+        let o = raypack(&[
+            "gen",
+            "forest",
+            "--size",
+            "300",
+            "--seed",
+            "7",
+            "-o",
+            path.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let got = instancing(path.to_str().unwrap());
+        // The ground, the scene's own two triangles, reads back as one more
+        // instance of a mesh of its own.
+        assert_eq!(got["instances"], 301, "{name}: {got}");
+        assert_eq!(got["meshes"], 3, "{name}: {got}");
+        for count in ["unique_primitives", "instanced_primitives"] {
+            assert_eq!(got[count], expected[count], "{name}: {count}");
+        }
+    }
+    let o = raypack(&["gen", "forest", "--size", "20"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(json["asset"]["version"], "2.0");
+
+    for (args, message, file) in [
+        (["gen", "forest", "-o"], "NFF cannot hold", "forest.nff"),
+        (
+            ["gen", "sphereflake", "-o"],
+            "primitive 0 is a polygon",
+            "balls.glb",
+        ),
+    ] {
+        let path = dir.path().join(file);
+        let mut args = args.to_vec();
+        args.push(path.to_str().unwrap());
+        let o = raypack(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(message), "{args:?}: {}", stderr(&o));
+        assert!(!path.exists(), "{args:?} wrote {}", path.display());
+    }
+}

@@ -147,7 +147,7 @@ fn mirror_glass_scene_has_mirrors_glass_and_lights_in_view() {
 fn fuzz_findings_load_or_fail_cleanly() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
     // File, and the primitives it loads (Ok) or what its error says (Err).
-    let findings: [(&str, Result<usize, &str>); 7] = [
+    let findings: [(&str, Result<usize, &str>); 10] = [
         // A cylinder 958351 long and 0.07 wide: measured from its base, f32
         // kept its far end to 0.06 and its kernel took a hit 0.03 past it,
         // outside its box, so single rays and packets disagreed (fuzz target

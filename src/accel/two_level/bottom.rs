@@ -4,13 +4,20 @@
 //! instruction set once, not twenty-one times). Packets entering an instance
 //! go through the structure's own entry point ([`Accel`]): a packet's work
 //! there dwarfs the call, and one copy of the packet walks per level is what
-//! keeps the build time down.
+//! keeps the build time down. They enter it in the portable lanes of their
+//! width, the lanes every other caller passes: in the calling level's own
+//! lanes, each structure's entry points would be compiled again for every
+//! level's types, a level's intrinsics inside another level's entry point
+//! (tests/cli/inlining.rs).
 
+use crate::accel::bvh::dispatch::at_width;
 use crate::accel::bvh::{occlusion, traverse_single};
 use crate::accel::stats::Counter;
 use crate::accel::{Accel, BruteForce, Bvh};
+use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::Simd8;
+use crate::simd::isa::{Level, PortableLanes};
+use crate::simd::{Simd8, SimdFloat};
 
 /// A structure a [`TwoLevel`](super::TwoLevel) holds per mesh, its single
 /// rays queried with the top level's 8-lane type `N`.
@@ -43,4 +50,43 @@ impl BottomLevel for BruteForce<'_> {
     fn occluded_on<N: Simd8, S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         self.occluded_counted(ray, stats)
     }
+}
+
+/// The nearest hits of `rays`' active lanes in `structure`, through its own
+/// entry point in the portable lanes of their width.
+#[inline(always)]
+pub(super) fn nearest_packet<F: SimdFloat, S: Counter>(
+    structure: &impl Accel,
+    rays: &RayPacket<F>,
+    stats: &mut S,
+) -> HitPacket<F> {
+    at_width!(F, PortableLanes, nearest_in(structure, rays, stats))
+}
+
+/// The blocked lanes of `rays` in `structure`, as [`nearest_packet`] enters it.
+#[inline(always)]
+pub(super) fn blocked_packet<F: SimdFloat, S: Counter>(
+    structure: &impl Accel,
+    rays: &RayPacket<F>,
+    stats: &mut S,
+) -> F {
+    at_width!(F, PortableLanes, blocked_in(structure, rays, stats))
+}
+
+#[inline(always)]
+fn nearest_in<G: SimdFloat>(
+    structure: &impl Accel,
+    rays: &RayPacket<impl SimdFloat>,
+    stats: &mut impl Counter,
+) -> HitPacket<G> {
+    structure.intersect_packet_counted(&rays.convert::<G>(), stats)
+}
+
+#[inline(always)]
+fn blocked_in<G: SimdFloat>(
+    structure: &impl Accel,
+    rays: &RayPacket<impl SimdFloat>,
+    stats: &mut impl Counter,
+) -> G {
+    structure.occluded_packet_counted(&rays.convert::<G>(), stats)
 }

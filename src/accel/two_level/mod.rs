@@ -50,7 +50,7 @@ use crate::simd::isa::{Level, LevelTask};
 use crate::simd::{Simd8, SimdFloat};
 
 use placed::Placed;
-use queries::{InstanceAnyHit, InstanceAnyHitPacket, InstanceNearest, InstanceNearestPacket};
+use queries::{InstanceAnyHit, InstanceAnyHitPacket, InstanceNearest, InstanceNearestPacket, Instances};
 
 /// Instances over bottom structures of type `B` (raypack's [`Bvh`], or
 /// [`BruteForce`](crate::accel::BruteForce) as a reference), under a top
@@ -155,6 +155,15 @@ impl<B> TwoLevel<B> {
         self.top.bounds()
     }
 
+    /// What the top tree's leaves lead to, for its queries.
+    #[inline(always)]
+    fn instances(&self) -> Instances<'_, B> {
+        Instances {
+            placed: &self.placed,
+            meshes: &self.meshes,
+        }
+    }
+
     /// Run `task` on the top tree's instruction set.
     #[inline(always)]
     fn on_level<T: LevelTask>(&self, task: T) -> T::Output {
@@ -170,7 +179,7 @@ impl<B: BottomLevel> TwoLevel<B> {
     fn intersect_on<N: Simd8, S: Counter>(&self, ray: &Ray, hit: &mut Hit, stats: &mut S) {
         self.own.intersect_into_on::<N, S>(ray, hit, stats);
         let query = &mut InstanceNearest::<B, true> {
-            two_level: self,
+            instances: self.instances(),
             ray,
             hit,
         };
@@ -184,7 +193,10 @@ impl<B: BottomLevel> TwoLevel<B> {
             || trace::<N, _, S>(
                 &self.top,
                 ray,
-                &mut InstanceAnyHit::<B, true> { two_level: self, ray },
+                &mut InstanceAnyHit::<B, true> {
+                    instances: self.instances(),
+                    ray,
+                },
                 stats,
             )
     }
@@ -196,9 +208,9 @@ impl<B: BottomLevel> TwoLevel<B> {
         rays: &RayPacket<G>,
         stats: &mut S,
     ) -> HitPacket<G> {
-        let mut hits = self.own.intersect_packet_counted(rays, stats);
+        let mut hits = bottom::nearest_packet(&self.own, rays, stats);
         let query = &mut InstanceNearestPacket {
-            two_level: self,
+            instances: self.instances(),
             rays: *rays,
             hits: &mut hits,
         };
@@ -209,9 +221,9 @@ impl<B: BottomLevel> TwoLevel<B> {
     /// The blocked lanes of the packet, in the level's lanes `G`.
     #[inline(always)]
     fn occluded_packet_on<G: SimdFloat, S: Counter>(&self, rays: &RayPacket<G>, stats: &mut S) -> G {
-        let blocked = self.own.occluded_packet_counted(rays, stats) & rays.active;
+        let blocked = bottom::blocked_packet(&self.own, rays, stats) & rays.active;
         let query = &mut InstanceAnyHitPacket {
-            two_level: self,
+            instances: self.instances(),
             rays: *rays,
             pending: rays.active.and_not(blocked),
         };

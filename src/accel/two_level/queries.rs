@@ -13,14 +13,28 @@ use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
 
-use super::TwoLevel;
-use super::bottom::BottomLevel;
+use super::bottom::{BottomLevel, blocked_packet, nearest_packet};
 use super::placed::Placed;
 
-impl<B: BottomLevel> TwoLevel<B> {
+/// The instances that the top tree's leaves name (ranges of `placed`), and
+/// the meshes' structures they place. 32 bytes.
+pub(super) struct Instances<'a, B> {
+    pub placed: &'a [Placed],
+    pub meshes: &'a [B],
+}
+
+// Two references, whatever `B` is (a derive would ask `B: Copy`).
+impl<B> Clone for Instances<'_, B> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<B> Copy for Instances<'_, B> {}
+
+impl<B: BottomLevel> Instances<'_, B> {
     /// The instances of the top tree's leaf `leaf`.
     #[inline(always)]
-    fn instances(&self, leaf: LeafRef) -> &[Placed] {
+    fn of(&self, leaf: LeafRef) -> &[Placed] {
         match leaf {
             LeafRef::Prims(range) => &self.placed[range],
             _ => unreachable!("the top tree's leaves are ranges of instances"),
@@ -87,7 +101,7 @@ impl<B: BottomLevel> TwoLevel<B> {
         stats: &mut S,
     ) {
         let (local, s) = p.object_packet(rays, lanes, hits.t);
-        let found = self.meshes[p.mesh as usize].intersect_packet_counted(&local, stats);
+        let found = nearest_packet(&self.meshes[p.mesh as usize], &local, stats);
         let mut candidates = (found.hit_mask() & local.active).bitmask();
         if candidates == 0 {
             return;
@@ -114,7 +128,7 @@ impl<B: BottomLevel> TwoLevel<B> {
 /// lane, whose walks would otherwise be compiled in at every place a packet
 /// hands lanes over).
 pub(super) struct InstanceNearest<'a, B, const INLINE: bool> {
-    pub two_level: &'a TwoLevel<B>,
+    pub instances: Instances<'a, B>,
     pub ray: &'a Ray,
     pub hit: &'a mut Hit,
 }
@@ -127,8 +141,8 @@ impl<B: BottomLevel, const INLINE: bool> RayQuery for InstanceNearest<'_, B, INL
 
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, _: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        for p in self.two_level.instances(leaf) {
-            self.two_level
+        for p in self.instances.of(leaf) {
+            self.instances
                 .intersect_instance::<N, S, INLINE>(p, self.ray, self.hit, stats);
         }
         false
@@ -138,7 +152,7 @@ impl<B: BottomLevel, const INLINE: bool> RayQuery for InstanceNearest<'_, B, INL
 /// The any-hit query of one ray through the instances (`INLINE` as
 /// [`InstanceNearest`]'s).
 pub(super) struct InstanceAnyHit<'a, B, const INLINE: bool> {
-    pub two_level: &'a TwoLevel<B>,
+    pub instances: Instances<'a, B>,
     pub ray: &'a Ray,
 }
 
@@ -152,8 +166,8 @@ impl<B: BottomLevel, const INLINE: bool> RayQuery for InstanceAnyHit<'_, B, INLI
 
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, _: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
-        for p in self.two_level.instances(leaf) {
-            if self.two_level.occludes::<N, S, INLINE>(p, self.ray, stats) {
+        for p in self.instances.of(leaf) {
+            if self.instances.occludes::<N, S, INLINE>(p, self.ray, stats) {
                 return true;
             }
         }
@@ -164,7 +178,7 @@ impl<B: BottomLevel, const INLINE: bool> RayQuery for InstanceAnyHit<'_, B, INLI
 /// The nearest-hit query of a packet through the instances: lanes that meet
 /// an instance together enter it as one packet.
 pub(super) struct InstanceNearestPacket<'a, B, F: SimdFloat> {
-    pub two_level: &'a TwoLevel<B>,
+    pub instances: Instances<'a, B>,
     pub rays: RayPacket<F>,
     pub hits: &'a mut HitPacket<F>,
 }
@@ -188,7 +202,7 @@ impl<B: BottomLevel, F: SimdFloat> LaneQueries<F> for InstanceNearestPacket<'_, 
     #[inline(always)]
     fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> InstanceNearest<'a, B, false> {
         InstanceNearest {
-            two_level: self.two_level,
+            instances: self.instances,
             ray,
             hit,
         }
@@ -219,8 +233,8 @@ impl<B: BottomLevel, F: SimdFloat> PacketQuery<F> for InstanceNearestPacket<'_, 
             leaf_lane_by_lane(self, top, leaf, bits, stats);
             return;
         }
-        for p in self.two_level.instances(leaf) {
-            self.two_level
+        for p in self.instances.of(leaf) {
+            self.instances
                 .intersect_instance_packet(p, &self.rays, mask, self.hits, stats);
         }
     }
@@ -228,7 +242,7 @@ impl<B: BottomLevel, F: SimdFloat> PacketQuery<F> for InstanceNearestPacket<'_, 
 
 /// The any-hit query of a packet through the instances: blocked lanes leave it.
 pub(super) struct InstanceAnyHitPacket<'a, B, F: SimdFloat> {
-    pub two_level: &'a TwoLevel<B>,
+    pub instances: Instances<'a, B>,
     pub rays: RayPacket<F>,
     /// The lanes not yet found blocked.
     pub pending: F,
@@ -253,7 +267,7 @@ impl<B: BottomLevel, F: SimdFloat> LaneQueries<F> for InstanceAnyHitPacket<'_, B
     #[inline(always)]
     fn query<'a>(&'a self, ray: &'a Ray, _: &'a mut Hit) -> InstanceAnyHit<'a, B, false> {
         InstanceAnyHit {
-            two_level: self.two_level,
+            instances: self.instances,
             ray,
         }
     }
@@ -286,13 +300,13 @@ impl<B: BottomLevel, F: SimdFloat> PacketQuery<F> for InstanceAnyHitPacket<'_, B
             leaf_lane_by_lane(self, top, leaf, bits, stats);
             return;
         }
-        for p in self.two_level.instances(leaf) {
+        for p in self.instances.of(leaf) {
             let open = mask & self.pending;
             if open.none() {
                 break;
             }
             let (local, _) = p.object_packet(&self.rays, open, self.rays.t_max);
-            let blocked = self.two_level.meshes[p.mesh as usize].occluded_packet_counted(&local, stats);
+            let blocked = blocked_packet(&self.instances.meshes[p.mesh as usize], &local, stats);
             self.pending = self.pending.and_not(blocked & local.active);
         }
     }

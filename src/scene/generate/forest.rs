@@ -23,6 +23,10 @@ const TRUNK_SIDES: usize = 12;
 /// Triangles of a rock (a squashed sphere).
 const ROCK_TRIANGLES: usize = 4_000;
 
+/// Most instances `raypack gen forest` makes: with every one a tree (some
+/// 20,000 triangles) the ids stay within 32 bits.
+pub const MAX_INSTANCES: u32 = 200_000;
+
 /// Distance between neighbouring trees.
 const SPACING: f32 = 4.0;
 

@@ -21,6 +21,12 @@
 //! | `random-spheres` | sphere count | 10000 | `n` spheres |
 //! | `random-triangles` | triangle count | 10000 | `n` triangles |
 //! | `terrain` | subdivision level | 6 | `2·4^n` triangles (8192) |
+//! | `forest` | instance count | 1000 | `n` instances of 2 meshes (about 24,000 unique triangles) + 2 ground triangles |
+//!
+//! `forest` is instanced (its trees are copies of two meshes, [`forest`]): NFF
+//! cannot hold instances, so it is written as glTF
+//! ([`gltf_writer`](crate::scene::gltf_writer)), as is any kind made of
+//! triangles only when the output file asks for `.glb` or `.gltf`.
 //!
 //! The SPD size factors of balls, tetra and mount follow the 1987 distribution,
 //! where 4 is the classic scene (SPD 3.x renumbered tetra and mount: its 6 is
@@ -53,8 +59,11 @@ mod tree;
 
 use std::io::{self, Write};
 use std::ops::RangeInclusive;
+use std::path::Path;
 
 use nff_writer::NffWriter;
+
+use crate::scene::{Scene, nff};
 
 /// Seed of the random kinds when none is given.
 const DEFAULT_SEED: u64 = 1;
@@ -93,11 +102,13 @@ pub enum Kind {
     RandomTriangles,
     /// A diamond-square height field of triangles.
     Terrain,
+    /// A forest of trees and rocks, instances of two meshes (glTF only: NFF has no instances).
+    Forest,
 }
 
 impl Kind {
     /// Every kind, in the order of the table above.
-    pub const ALL: [Kind; 13] = [
+    pub const ALL: [Kind; 14] = [
         Kind::Sphereflake,
         Kind::Tetra,
         Kind::FractalMountain,
@@ -111,6 +122,7 @@ impl Kind {
         Kind::RandomSpheres,
         Kind::RandomTriangles,
         Kind::Terrain,
+        Kind::Forest,
     ];
 
     /// The name on the command line.
@@ -129,6 +141,7 @@ impl Kind {
             Kind::RandomSpheres => "random-spheres",
             Kind::RandomTriangles => "random-triangles",
             Kind::Terrain => "terrain",
+            Kind::Forest => "forest",
         }
     }
 
@@ -156,6 +169,7 @@ impl Kind {
             Kind::RandomSpheres => "the number of spheres",
             Kind::RandomTriangles => "the number of triangles",
             Kind::Terrain => "the subdivision level",
+            Kind::Forest => "the number of instances",
             spd => {
                 debug_assert!(spd.is_spd());
                 "the SPD size factor"
@@ -178,6 +192,7 @@ impl Kind {
             Kind::Jacks => 1..=7,
             Kind::RandomSpheres | Kind::RandomTriangles => 1..=MAX_COUNT,
             Kind::Terrain => 0..=10,
+            Kind::Forest => 1..=forest::MAX_INSTANCES,
         }
     }
 
@@ -192,6 +207,7 @@ impl Kind {
             Kind::Jacks => 1,
             Kind::RandomSpheres | Kind::RandomTriangles => 10_000,
             Kind::Terrain => 6,
+            Kind::Forest => 1000,
         }
     }
 
@@ -199,13 +215,19 @@ impl Kind {
     pub fn seeds(self) -> Option<RangeInclusive<u64>> {
         match self {
             Kind::FractalMountain => Some(0..=mountain::MAX_MOUNTAIN),
-            Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain => Some(0..=u64::MAX),
+            Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain | Kind::Forest => Some(0..=u64::MAX),
             // Every other SPD scene is fixed.
             spd => {
                 debug_assert!(spd.is_spd());
                 None
             }
         }
+    }
+
+    /// Whether the scene is made of instances, which NFF cannot hold (it is
+    /// written as glTF).
+    pub fn is_instanced(self) -> bool {
+        self == Kind::Forest
     }
 
     /// `--seed` when none is given.
@@ -306,6 +328,7 @@ impl Params {
             Kind::Jacks => jacks::primitive_count(self.size),
             Kind::RandomSpheres | Kind::RandomTriangles => u64::from(self.size),
             Kind::Terrain => terrain::primitive_count(self.size),
+            Kind::Forest => self.scene().id_count(),
         }
     }
 
@@ -368,12 +391,25 @@ impl Params {
             Kind::Terrain => {
                 format!("diamond-square terrain, level {n}: {count} triangles, seed {seed}, 1 light")
             }
+            Kind::Forest => format!(
+                "forest of {n} instances of 2 meshes (trees and rocks): {count} instanced triangles, seed {seed}, 1 light"
+            ),
         }
     }
 
     /// Write the scene as NFF to `out`, header comments first; returns `out`
-    /// (flushed) for the caller to finish.
+    /// (flushed) for the caller to finish. An instanced kind
+    /// ([`Kind::is_instanced`]) is refused: NFF has no instances.
     pub fn write_nff<W: Write>(&self, out: W) -> io::Result<W> {
+        if self.kind.is_instanced() {
+            return Err(io::Error::new(
+                io::ErrorKind::Unsupported,
+                format!(
+                    "{} is instanced, which NFF cannot hold: write it as glTF (-o FILE.glb or FILE.gltf)",
+                    self.kind.name()
+                ),
+            ));
+        }
         let mut nff = NffWriter::new(out);
         nff.comment(&self.title())?;
         nff.comment(&format!("Made by: {}", self.command()))?;
@@ -397,15 +433,29 @@ impl Params {
             Kind::RandomSpheres => random_spheres::write(self.size, seed, &mut nff)?,
             Kind::RandomTriangles => random_triangles::write(self.size, seed, &mut nff)?,
             Kind::Terrain => terrain::write(self.size, seed, &mut nff)?,
+            Kind::Forest => unreachable!("refused above"),
         }
         debug_assert_eq!(nff.primitives(), self.primitive_count(), "{:?}", self);
         nff.finish()
     }
 
-    /// The scene as NFF text.
+    /// The scene as NFF text. Panics for an instanced kind
+    /// ([`Kind::is_instanced`]), which has none.
     pub fn to_nff(&self) -> String {
-        let bytes = self.write_nff(Vec::new()).expect("writing to memory cannot fail");
+        let bytes = self
+            .write_nff(Vec::new())
+            .expect("an NFF kind, written to memory");
         String::from_utf8(bytes).expect("NFF output is ASCII")
+    }
+
+    /// The scene: an instanced kind made directly, the others read back
+    /// from their NFF text (so both hold the same primitives in the same order).
+    pub fn scene(&self) -> Scene {
+        match self.kind {
+            Kind::Forest => forest::forest(self.size as usize, self.seed.unwrap_or(DEFAULT_SEED)),
+            _ => nff::parse(Path::new(&self.command()), self.to_nff().as_bytes())
+                .expect("the generators write NFF their reader takes"),
+        }
     }
 }
 

@@ -4,15 +4,13 @@
 //! everywhere), and a mix of all of them. Each comes with a camera that frames
 //! it. The sphereflake is `raypack gen`'s, the SPD's ([`Kind::Sphereflake`]).
 
-use std::path::Path;
-
 use clap::ValueEnum;
 use glam::Vec3;
 
 use crate::geometry::{Primitive, Triangle};
 use crate::scene::generate::random;
 use crate::scene::generate::{Kind, Params};
-use crate::scene::{CameraSpec, Material, Scene, nff};
+use crate::scene::{CameraSpec, Material, Scene};
 
 /// The generated scenes, by name.
 pub const NAMES: [&str; 7] = [
@@ -55,11 +53,11 @@ pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
 
 /// The scene named by a command-line argument `gen:NAME[:N[:SEED]]`; None when
 /// `spec` does not start with `gen:`. NAME is one of [`NAMES`] (N primitives,
-/// 1000 by default; seed 1 by default), `forest` (N instances of two meshes
-/// of some 20,000 triangles, 1000 by default: [`forest`](crate::scene::generate::forest)), or else a kind of `raypack gen`, as
+/// 1000 by default; seed 1 by default), or else a kind of `raypack gen`, as
 /// [`Kind`] names it (N its `--size`, SEED its `--seed`, each the kind's default
-/// when left out), generated as NFF and read back: `gen:sphereflake:3` is
-/// `raypack gen sphereflake --size 3`.
+/// when left out), the scene that command writes ([`Params::scene`]):
+/// `gen:sphereflake:3` is `raypack gen sphereflake --size 3`, `gen:forest:N`
+/// a forest of N instances.
 pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
     let rest = spec.strip_prefix("gen:")?;
     let mut parts = rest.split(':');
@@ -84,30 +82,29 @@ pub fn from_spec(spec: &str) -> Option<Result<Scene, String>> {
         if listed {
             return Ok(by_name(name, n.unwrap_or(1000) as usize, seed.unwrap_or(1)).expect("a listed name"));
         }
-        if name == "forest" {
-            let n = usize::try_from(n.unwrap_or(1000)).map_err(|_| format!("{spec}: too many instances"))?;
-            return Ok(crate::scene::generate::forest::forest(n, seed.unwrap_or(1)));
-        }
         let kind = Kind::from_str(name, true).map_err(|_| {
             let kinds: Vec<_> = Kind::ALL.iter().map(|k| k.name()).collect();
             format!(
-                "{spec}: unknown generated scene `{name}` (one of {}, forest, or of `raypack gen`: {})",
+                "{spec}: unknown generated scene `{name}` (one of {}, or of `raypack gen`: {})",
                 NAMES.join(", "),
                 kinds.join(", ")
             )
         })?;
-        generated_nff(spec, kind, n, seed)
+        generated(spec, kind, n, seed)
     })())
 }
 
-/// The scene `raypack gen` writes for `kind`, `size` and `seed`, read back
-/// through the NFF reader.
-fn generated_nff(spec: &str, kind: Kind, size: Option<u64>, seed: Option<u64>) -> Result<Scene, String> {
+/// The scene `raypack gen` writes for `kind`, `size` and `seed`
+/// ([`Params::scene`]), named by `spec`.
+fn generated(spec: &str, kind: Kind, size: Option<u64>, seed: Option<u64>) -> Result<Scene, String> {
     let size = size
         .map(|n| u32::try_from(n).map_err(|_| format!("{spec}: the size {n} is too large")))
         .transpose()?;
     let params = Params::new(kind, size, seed).map_err(|e| format!("{spec}: {e}"))?;
-    nff::parse(Path::new(spec), params.to_nff().as_bytes()).map_err(|e| format!("{spec}: {e}"))
+    Ok(Scene {
+        source: spec.to_string(),
+        ..params.scene()
+    })
 }
 
 /// A scene of `prims`, one default material, and a camera framing them.
