@@ -218,20 +218,17 @@ impl LeafStore {
         prim.intersect_packet(&self.others, rays, hits);
     }
 
-    /// Where `leaf`'s blocks start and how many bytes they span, for a
-    /// prefetch; None for records, which are read one by one.
+    /// Where `leaf`'s blocks start, for a prefetch; None for records, which
+    /// are read one by one.
     #[inline(always)]
-    pub fn block_bytes(&self, leaf: LeafRef) -> Option<(*const u8, usize)> {
-        fn span<B>(list: &[B], blocks: Range<usize>) -> Option<(*const u8, usize)> {
-            Some((
-                list.as_ptr().wrapping_add(blocks.start).cast::<u8>(),
-                blocks.len() * size_of::<B>(),
-            ))
+    pub fn block_start(&self, leaf: LeafRef) -> Option<*const u8> {
+        fn start<B>(list: &[B], blocks: Range<usize>) -> Option<*const u8> {
+            Some(list.as_ptr().wrapping_add(blocks.start).cast::<u8>())
         }
         match leaf {
-            LeafRef::Triangles { blocks, .. } => span(&self.triangle_blocks, blocks),
-            LeafRef::Watertight { blocks, .. } => span(&self.watertight_blocks, blocks),
-            LeafRef::Spheres { blocks, .. } => span(&self.sphere_blocks, blocks),
+            LeafRef::Triangles { blocks, .. } => start(&self.triangle_blocks, blocks),
+            LeafRef::Watertight { blocks, .. } => start(&self.watertight_blocks, blocks),
+            LeafRef::Spheres { blocks, .. } => start(&self.sphere_blocks, blocks),
             LeafRef::Prims(_) => None,
         }
     }

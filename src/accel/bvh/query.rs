@@ -15,7 +15,9 @@ use crate::simd::{Simd8, SimdFloat};
 pub trait RayQuery {
     /// Whether children are visited nearest first. Nearest-hit queries gain
     /// from it (a near hit culls the far children); an any-hit query stops at
-    /// whatever it meets first, so it saves the ordering.
+    /// whatever it meets first, so it saves the ordering. A query that is not
+    /// nearest first must keep its [`t_max`](Self::t_max) fixed: the walk
+    /// does not cull what it pushed again.
     const NEAREST_FIRST: bool = true;
 
     /// The largest t still of interest (the current hit's t for nearest-hit queries).

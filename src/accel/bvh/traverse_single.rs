@@ -165,12 +165,13 @@ impl Walk {
         }
         // Pop the next child the current hit has not put out of reach (entry t
         // equal to the hit's t stays: the tie rule may still prefer it). It
-        // was prefetched when pushed.
+        // was prefetched when pushed. An any-hit query's reach never shrinks,
+        // so what it pushed stays in reach.
         loop {
             let Some((child, t_entry)) = stack.pop() else {
                 return Some(false);
             };
-            if t_entry <= query.t_max() * FAR_SCALE {
+            if !Q::NEAREST_FIRST || t_entry <= query.t_max() * FAR_SCALE {
                 self.next = child;
                 return None;
             }

@@ -26,6 +26,15 @@ fn prefetch_line(p: *const u8) {
     let _ = p;
 }
 
+/// Ask the CPU to load the `lines` cache lines from `start` (a constant
+/// where inlined, so the loop unrolls).
+#[inline(always)]
+fn prefetch_lines(start: *const u8, lines: usize) {
+    for line in 0..lines {
+        prefetch_line(start.wrapping_add(64 * line));
+    }
+}
+
 /// A width of wide tree that a [`Bvh`] holds, and where it keeps its nodes.
 pub trait TreeWidth: SimdFloat {
     /// The nodes of `bvh`'s tree of this width (node 0 holds the root's children).
@@ -134,17 +143,15 @@ impl Bvh {
     /// the cache: the wide node's lines, or the first lines of the leaf's blocks.
     #[inline(always)]
     pub fn prefetch<F: TreeWidth>(&self, child: ChildRef) {
-        let (start, bytes) = if !child.is_leaf() {
-            let node = F::nodes(self).as_ptr().wrapping_add(child.node());
-            (node.cast::<u8>(), size_of::<WideNodeOf<F>>())
-        } else {
-            match self.leaves.block_bytes(child.contents()) {
-                Some((blocks, bytes)) => (blocks, bytes.min(PREFETCH_BYTES)),
-                None => return,
-            }
-        };
-        for line in (0..bytes).step_by(64) {
-            prefetch_line(start.wrapping_add(line));
+        // A fixed number of lines each way, so that the loops unroll into
+        // bare prefetches: a leaf's lines past its blocks are a hint that
+        // costs a little bandwidth, where a count computed per child cost
+        // some thirty instructions at every push.
+        if !child.is_leaf() {
+            let node = F::nodes(self).as_ptr().wrapping_add(child.node()).cast::<u8>();
+            prefetch_lines(node, size_of::<WideNodeOf<F>>() / 64);
+        } else if let Some(blocks) = self.leaves.block_start(child.contents()) {
+            prefetch_lines(blocks, PREFETCH_BYTES / 64);
         }
     }
 
