@@ -11,8 +11,9 @@
 //!   are split into glTF primitives at each change of material or of smooth
 //!   shading (a primitive has a NORMAL attribute for all of its vertices or
 //!   none), in order; vertices shared by a primitive's triangles are written
-//!   once (u32 indices). Only triangles can be written: a sphere, plane,
-//!   polygon, cone or transformed primitive is refused, naming it.
+//!   once (u32 indices). Only triangles can be written (and polygons of three
+//!   vertices, NFF's `p 3`, as the triangles they are): a sphere, plane,
+//!   larger polygon, cone or transformed primitive is refused, naming it.
 //! - **Instances**: one node each, its `matrix` the instance's M (exact: a
 //!   32-bit float is written as the 64-bit number it equals).
 //! - **Materials**: `baseColorFactor` = colour; roughness = √(2 / Phong
@@ -32,7 +33,7 @@ use base64::Engine as _;
 use glam::{Mat4, Vec3, Vec4};
 use serde_json::{Value, json};
 
-use crate::geometry::{Primitive, Triangle};
+use crate::geometry::Primitive;
 use crate::scene::model::{CameraSpec, Material, Scene};
 
 /// The container a glTF document is written in.
@@ -60,7 +61,8 @@ impl Container {
 /// Why a scene cannot be written as glTF.
 #[derive(Debug, thiserror::Error)]
 pub enum GltfWriteError {
-    /// A primitive glTF has no shape for.
+    /// A primitive glTF has no shape for (a polygon is not split: its
+    /// pieces would each take an id of their own).
     #[error("glTF holds triangle meshes: {at} is a {kind} (write NFF or TOML instead)")]
     NotATriangle {
         /// Which primitive (the scene's own by index, or a mesh's).
@@ -250,11 +252,26 @@ impl Document {
         // The key of the run being filled: material and smooth shading.
         let mut key = None;
         for (i, prim) in prims.iter().enumerate() {
-            let Primitive::Triangle(triangle) = prim else {
-                return Err(GltfWriteError::NotATriangle {
-                    at: at(i),
-                    kind: format!("{:?}", prim.kind()).to_lowercase(),
-                });
+            let corners = match prim {
+                Primitive::Triangle(triangle) => triangle.vertices(),
+                // NFF's `p` with three vertices (how the generators write
+                // triangles) is the triangle it bounds.
+                Primitive::Polygon(polygon) if polygon.vertices().len() == 3 => {
+                    let v = polygon.vertices();
+                    [v[0], v[1], v[2]]
+                }
+                Primitive::Polygon(polygon) => {
+                    return Err(GltfWriteError::NotATriangle {
+                        at: at(i),
+                        kind: format!("polygon of {} vertices", polygon.vertices().len()),
+                    });
+                }
+                _ => {
+                    return Err(GltfWriteError::NotATriangle {
+                        at: at(i),
+                        kind: format!("{:?}", prim.kind()).to_lowercase(),
+                    });
+                }
             };
             let normals = vertex_normals.get(&(i as u32));
             let this = (material_of[i], normals.is_some());
@@ -262,7 +279,7 @@ impl Document {
                 primitives.push(self.primitive(std::mem::take(&mut run), material));
             }
             key = Some(this);
-            run.push(Triangle::vertices(triangle), normals);
+            run.push(corners, normals);
         }
         let Some((material, _)) = key else {
             return Ok(None);

@@ -202,6 +202,21 @@ fn gen_forest_writes_gltf_that_reads_back_as_the_same_instances() {
     let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(json["asset"]["version"], "2.0");
 
+    // NFF's triangles (`p 3`) are glTF's: a generated mesh reads back whole.
+    let mesh = dir.path().join("triangles.glb");
+    let o = raypack(&[
+        "gen",
+        "random-triangles",
+        "--size",
+        "50",
+        "-o",
+        mesh.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let info = raypack(&["info", mesh.to_str().unwrap(), "--json"]);
+    let json: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(json["instancing"]["instanced_primitives"], 50, "{json}");
+
     for (args, message, file) in [
         (["gen", "forest", "-o"], "NFF cannot hold", "forest.nff"),
         (
