@@ -23,6 +23,7 @@ pub use polygon::Polygon;
 pub use sphere::Sphere;
 pub use transformed::Transformed;
 pub use triangle::{Triangle, TriangleTest};
+pub use triangle_watertight::ShearedRay;
 
 use crate::bounds::Aabb;
 use crate::packet::{HitPacket, RayPacket};
@@ -83,6 +84,29 @@ pub fn usable_denominators<F: SimdFloat>(denom: F) -> F {
     denom.ne(F::splat(0.0)) & denom.abs().lt(F::splat(f32::INFINITY))
 }
 
+/// A ray as the block kernels take it: the ray, and what a kernel derives
+/// from the ray alone, made once per ray rather than at every block it meets
+/// (the watertight test's shear frame: three divisions and the choice of
+/// axes). 72 bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct BlockRay<'a> {
+    /// The ray.
+    pub ray: &'a Ray,
+    /// Its shear frame, for [`triangle_watertight`].
+    pub sheared: ShearedRay,
+}
+
+impl<'a> BlockRay<'a> {
+    /// `ray`, prepared for the block kernels.
+    #[inline(always)]
+    pub fn new(ray: &'a Ray) -> Self {
+        Self {
+            ray,
+            sheared: ShearedRay::new(ray),
+        }
+    }
+}
+
 /// Block kernels: one ray against up to `F::LANES` shapes held in
 /// structure-of-arrays lanes ([`triangle::ProjectedTriangles`],
 /// [`sphere::Spheres`], what BVH leaves store), in one SIMD pass with no branch
@@ -98,14 +122,14 @@ pub trait BlockIntersect {
     /// hit was recorded.
     fn intersect_with<N: SimdFloat<Array = <Self::Lanes as SimdFloat>::Array>>(
         &self,
-        ray: &Ray,
+        ray: &BlockRay,
         hit: &mut Hit,
     ) -> bool;
 
     /// [`intersect_with`](Self::intersect_with) the storage's own lane type.
     #[inline(always)]
     fn intersect(&self, ray: &Ray, hit: &mut Hit) -> bool {
-        self.intersect_with::<Self::Lanes>(ray, hit)
+        self.intersect_with::<Self::Lanes>(&BlockRay::new(ray), hit)
     }
 
     /// Primitive index of lane `i`'s shape.

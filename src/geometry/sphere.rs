@@ -18,7 +18,7 @@
 use glam::Vec3;
 
 use crate::bounds::Aabb;
-use crate::geometry::{BlockIntersect, Intersect, ShapeLanes, block_lanes};
+use crate::geometry::{BlockIntersect, BlockRay, Intersect, ShapeLanes, block_lanes};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, SimdU32, V3};
@@ -200,7 +200,8 @@ impl<F: SimdFloat> BlockIntersect for Spheres<F> {
     /// what the scalar kernel run over the lanes in any order would, and
     /// returns true if any lane's hit was recorded.
     #[inline(always)]
-    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &Ray, hit: &mut Hit) -> bool {
+    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &BlockRay, hit: &mut Hit) -> bool {
+        let ray = ray.ray;
         let (x, y, z) = (
             N::from_array(self.center[0]),
             N::from_array(self.center[1]),

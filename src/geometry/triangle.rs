@@ -21,7 +21,7 @@ use glam::Vec3;
 use crate::bounds::Aabb;
 use crate::geometry::triangle_watertight::WatertightTriangle;
 use crate::geometry::{
-    BlockIntersect, Intersect, ShapeLanes, block_lanes, usable_denominator, usable_denominators,
+    BlockIntersect, BlockRay, Intersect, ShapeLanes, block_lanes, usable_denominator, usable_denominators,
 };
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -460,7 +460,8 @@ impl<F: SimdFloat> BlockIntersect for ProjectedTriangles<F> {
     /// in `hit` what the scalar kernel run over the lanes in any order would,
     /// and returns true if any lane's hit was recorded.
     #[inline(always)]
-    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &Ray, hit: &mut Hit) -> bool {
+    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &BlockRay, hit: &mut Hit) -> bool {
+        let ray = ray.ray;
         // (No closures or array maps here: this is compiled into each
         // instruction set's entry point only if everything inlines.)
         let mut tagged_ids = <N::U32 as SimdU32>::Array::default();

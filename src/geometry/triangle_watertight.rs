@@ -33,7 +33,9 @@ use std::ops::{Add, Mul, Sub};
 
 use glam::Vec3;
 
-use crate::geometry::{BlockIntersect, ShapeLanes, block_lanes, usable_denominator, usable_denominators};
+use crate::geometry::{
+    BlockIntersect, BlockRay, ShapeLanes, block_lanes, usable_denominator, usable_denominators,
+};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{SimdFloat, SimdU32, V3};
@@ -67,20 +69,27 @@ impl WatertightTriangle {
     }
 }
 
-/// A ray's shear frame (see the module documentation). 24 bytes.
+/// A ray in its shear frame (see the module documentation): all the
+/// watertight kernels derive from the ray alone, computed once per ray
+/// ([`BlockRay`](crate::geometry::BlockRay) carries it to every block the ray
+/// meets). 64 bytes.
 #[derive(Clone, Copy, Debug)]
-pub struct RayShear {
+pub struct ShearedRay {
     /// The axes that become x, y and z.
     axes: [usize; 3],
     /// `S_x, S_y, S_z`.
     shear: [f32; 3],
+    /// The origin's components in the frame's axis order.
+    origin: [f32; 3],
+    /// The direction's components in the frame's axis order.
+    dir: [f32; 3],
 }
 
-impl RayShear {
-    /// The shear frame of direction `dir`.
+impl ShearedRay {
+    /// `ray` in its shear frame.
     #[inline(always)]
-    pub fn new(dir: Vec3) -> Self {
-        let abs = dir.abs();
+    pub fn new(ray: &Ray) -> Self {
+        let abs = ray.dir.abs();
         // The dominant axis; NaN directions fall to z, and every test then misses.
         let kz = if abs.x >= abs.y && abs.x >= abs.z {
             0
@@ -90,13 +99,15 @@ impl RayShear {
             2
         };
         let [mut kx, mut ky] = OTHER_AXES[kz];
-        let d = dir.to_array();
+        let (o, d) = (ray.origin.to_array(), ray.dir.to_array());
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
         Self {
             axes: [kx, ky, kz],
             shear: [d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]],
+            origin: [o[kx], o[ky], o[kz]],
+            dir: [d[kx], d[ky], d[kz]],
         }
     }
 
@@ -107,13 +118,39 @@ impl RayShear {
     pub fn is_usable(&self) -> bool {
         usable_denominator(self.shear[2])
     }
+
+    /// Point `p` relative to the origin, in the frame's axis order.
+    #[inline(always)]
+    fn relative(&self, p: Vec3) -> [f32; 3] {
+        let ([kx, ky, kz], p) = (self.axes, p.to_array());
+        [
+            p[kx] - self.origin[0],
+            p[ky] - self.origin[1],
+            p[kz] - self.origin[2],
+        ]
+    }
 }
 
-/// The edge functions `U, V, W` and their sum, and the plane distance's
-/// numerator `⟨n, a⟩` and denominator `⟨n, d⟩` (`n = (b − a) × (c − a)`),
-/// from the vertices relative to the ray's origin and the direction, all in
-/// the frame's axis order `(kx, ky, kz)`: the arithmetic all three kernels
-/// share, written once over scalars and lanes.
+/// The edge functions `U, V, W` of the origin against the triangle's edges,
+/// from the vertices relative to the ray's origin, in the frame's axis order
+/// `(kx, ky, kz)`: the arithmetic all three kernels share, written once over
+/// scalars and lanes. Whether the ray passes inside needs only these; the
+/// distance ([`plane_distance`]) is left to the triangles it does.
+#[inline(always)]
+fn edge_functions<T>(a: [T; 3], b: [T; 3], c: [T; 3], shear: [T; 3]) -> [T; 3]
+where
+    T: Copy + Sub<Output = T> + Mul<Output = T>,
+{
+    // (No closures or array maps in the kernels: they are compiled into each
+    // instruction set's entry point only if everything inlines.)
+    // Shear each vertex into the plane across the ray (x, y only: t comes from the plane).
+    let ([ax, ay], [bx, by], [cx, cy]) = (sheared(a, shear), sheared(b, shear), sheared(c, shear));
+    [cx * by - cy * bx, ax * cy - ay * cx, bx * ay - by * ax]
+}
+
+/// The plane distance's numerator `⟨n, a⟩` and denominator `⟨n, d⟩`
+/// (`n = (b − a) × (c − a)`), from the vertices relative to the ray's origin
+/// and the direction, in the frame's axis order; `t = ⟨n, a⟩ / ⟨n, d⟩`.
 ///
 /// The paper's `t = (U·a_z + V·b_z + W·c_z) / (U + V + W)` sums products of
 /// the sheared vertices, whose rounding grows with the vertices' distance
@@ -121,19 +158,10 @@ impl RayShear {
 /// behind the origin, and a ray from just outside a mesh went in without a
 /// hit. The plane distance rounds with the distance itself, so t comes from it.
 #[inline(always)]
-fn edge_functions<T>(a: [T; 3], b: [T; 3], c: [T; 3], dir: [T; 3], shear: [T; 3]) -> [T; 6]
+fn plane_distance<T>(a: [T; 3], b: [T; 3], c: [T; 3], dir: [T; 3]) -> [T; 2]
 where
     T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>,
 {
-    // (No closures or array maps in the kernels: they are compiled into each
-    // instruction set's entry point only if everything inlines.)
-    // Shear each vertex into the plane across the ray (x, y only: t comes from the plane).
-    let ([ax, ay], [bx, by], [cx, cy]) = (sheared(a, shear), sheared(b, shear), sheared(c, shear));
-    // The 2-D edge functions of the origin against each edge.
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
-    // The plane: n = (b − a) × (c − a), t = ⟨n, a⟩ / ⟨n, d⟩.
     let (e1, e2) = (
         [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
         [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
@@ -143,7 +171,7 @@ where
         e1[2] * e2[0] - e1[0] * e2[2],
         e1[0] * e2[1] - e1[1] * e2[0],
     ];
-    [u, v, w, u + v + w, dot(n, a), dot(n, dir)]
+    [dot(n, a), dot(n, dir)]
 }
 
 /// `p` sheared into the plane across the ray: `(p_x − S_x·p_z, p_y − S_y·p_z)`.
@@ -168,27 +196,22 @@ impl crate::geometry::Intersect for WatertightTriangle {
     /// Scalar kernel.
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
-        let frame = RayShear::new(ray.dir);
+        let frame = ShearedRay::new(ray);
         if !frame.is_usable() {
             return false;
         }
-        let [kx, ky, kz] = frame.axes;
-        let relative = |p: Vec3| {
-            let q = (p - ray.origin).to_array();
-            [q[kx], q[ky], q[kz]]
-        };
-        let [a, b, c] = self.vertices.map(relative);
-        let d = ray.dir.to_array();
-        let [u, v, w, det, distance, slope] = edge_functions(a, b, c, [d[kx], d[ky], d[kz]], frame.shear);
+        let [a, b, c] = self.vertices.map(|p| frame.relative(p));
+        let [u, v, w] = edge_functions(a, b, c, frame.shear);
         // Inside when no two edge functions have opposite signs.
         if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
             return false;
         }
+        let [distance, slope] = plane_distance(a, b, c, frame.dir);
         // The sum of the edge functions and its reciprocal must be finite and
         // not zero: zero is a ray along the plane (or a triangle of no area),
         // infinite or NaN an overflow of the products, and a subnormal sum's
         // reciprocal overflows (and the barycentrics would be NaN).
-        let inverse = 1.0 / det;
+        let inverse = 1.0 / (u + v + w);
         if !(usable_denominator(inverse) && usable_denominator(slope)) {
             return false;
         }
@@ -233,7 +256,7 @@ fn intersect_packet_lane<F: SimdFloat, T: TriangleVertices>(
     hits: &mut HitPacket<F>,
 ) {
     let (o, d) = (&rays.origin, &rays.dir);
-    // Each lane's dominant axis, as `RayShear::new` picks it, and whether it
+    // Each lane's dominant axis, as `ShearedRay::new` picks it, and whether it
     // points backwards (which swaps the other two).
     let (ax, ay, az) = (d.x.abs(), d.y.abs(), d.z.abs());
     let frame = LaneFrame {
@@ -245,20 +268,22 @@ fn intersect_packet_lane<F: SimdFloat, T: TriangleVertices>(
         flip: frame.permute([d.x, d.y, d.z])[2].lt(F::splat(0.0)),
         ..frame
     };
-    let [d_x, d_y, d_z] = frame.permute([d.x, d.y, d.z]);
+    let dir = frame.permute([d.x, d.y, d.z]);
     // (A lane whose dominant component is infinite is refused below, as
-    // `RayShear::is_usable` refuses it.)
-    let shear = [d_x / d_z, d_y / d_z, F::splat(1.0) / d_z];
+    // `ShearedRay::is_usable` refuses it.)
+    let shear = [dir[0] / dir[2], dir[1] / dir[2], F::splat(1.0) / dir[2]];
     let a = frame.relative(tri, i, 0, o);
     let b = frame.relative(tri, i, 1, o);
     let c = frame.relative(tri, i, 2, o);
-    let [u, v, w, det, distance, slope] = edge_functions(a, b, c, [d_x, d_y, d_z], shear);
-    let zero = F::splat(0.0);
-    let negative = u.lt(zero) | v.lt(zero) | w.lt(zero);
-    let positive = u.gt(zero) | v.gt(zero) | w.gt(zero);
-    let inverse = F::splat(1.0) / det;
+    let [u, v, w] = edge_functions(a, b, c, shear);
+    let inside = rays.active.and_not(straddles(u, v, w));
+    if inside.none() {
+        return;
+    }
+    let [distance, slope] = plane_distance(a, b, c, dir);
+    let inverse = F::splat(1.0) / (u + v + w);
     let t = distance / slope;
-    let mask = hits.accepts(rays, t, prim).and_not(negative & positive)
+    let mask = hits.accepts_among(inside, rays, t, prim)
         & usable_denominators(inverse)
         & usable_denominators(slope)
         & usable_denominators(shear[2]);
@@ -266,6 +291,16 @@ fn intersect_packet_lane<F: SimdFloat, T: TriangleVertices>(
         return;
     }
     hits.record(mask, t, prim, v * inverse, w * inverse);
+}
+
+/// The lanes whose edge functions have opposite signs (zero counts as
+/// either): the ray passes outside the triangle.
+#[inline(always)]
+fn straddles<F: SimdFloat>(u: F, v: F, w: F) -> F {
+    let zero = F::splat(0.0);
+    let negative = u.lt(zero) | v.lt(zero) | w.lt(zero);
+    let positive = u.gt(zero) | v.gt(zero) | w.gt(zero);
+    negative & positive
 }
 
 /// Each lane's shear frame in a packet: masks of the lanes whose dominant
@@ -333,30 +368,21 @@ impl<F: SimdFloat> WatertightTriangles<F> {
 }
 
 impl<F: SimdFloat> WatertightTriangles<F> {
-    /// Every lane's vertex `corner` relative to `origin`, in the frame's axis order `axes`.
+    /// Every lane's vertex `corner` relative to the ray's origin, in its frame's axis order.
     #[inline(always)]
-    fn relative<N: SimdFloat<Array = F::Array>>(
-        &self,
-        corner: usize,
-        axes: [usize; 3],
-        origin: [f32; 3],
-    ) -> [N; 3] {
+    fn relative<N: SimdFloat<Array = F::Array>>(&self, corner: usize, ray: &ShearedRay) -> [N; 3] {
         [
-            self.relative_row(corner, axes[0], origin),
-            self.relative_row(corner, axes[1], origin),
-            self.relative_row(corner, axes[2], origin),
+            self.relative_row(corner, ray, 0),
+            self.relative_row(corner, ray, 1),
+            self.relative_row(corner, ray, 2),
         ]
     }
 
-    /// Every lane's vertex `corner`, component `axis`, minus the origin's.
+    /// Every lane's vertex `corner`, the frame's component `k` (0: x, 1: y, 2: z),
+    /// relative to the ray's origin.
     #[inline(always)]
-    fn relative_row<N: SimdFloat<Array = F::Array>>(
-        &self,
-        corner: usize,
-        axis: usize,
-        origin: [f32; 3],
-    ) -> N {
-        N::from_array(self.vertices[3 * corner + axis]) - N::splat(origin[axis])
+    fn relative_row<N: SimdFloat<Array = F::Array>>(&self, corner: usize, ray: &ShearedRay, k: usize) -> N {
+        N::from_array(self.vertices[3 * corner + ray.axes[k]]) - N::splat(ray.origin[k])
     }
 }
 
@@ -372,35 +398,47 @@ impl<F: SimdFloat> BlockIntersect for WatertightTriangles<F> {
     /// lane): records in `hit` what the scalar kernel run over the lanes in
     /// any order would, and returns true if any lane's hit was recorded.
     #[inline(always)]
-    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &Ray, hit: &mut Hit) -> bool {
-        let frame = RayShear::new(ray.dir);
+    fn intersect_with<N: SimdFloat<Array = F::Array>>(&self, ray: &BlockRay, hit: &mut Hit) -> bool {
+        // The frame was made once for the ray ([`BlockRay`]): a block holds a
+        // leaf of 4 triangles or fewer on most meshes, and a ray meets several.
+        let frame = &ray.sheared;
         if !frame.is_usable() {
             return false;
         }
-        let (o, d, [kx, ky, kz]) = (ray.origin.to_array(), ray.dir.to_array(), frame.axes);
-        let [sx, sy, sz] = frame.shear;
-        let shear = [N::splat(sx), N::splat(sy), N::splat(sz)];
-        let dir = [N::splat(d[kx]), N::splat(d[ky]), N::splat(d[kz])];
+        let shear = [
+            N::splat(frame.shear[0]),
+            N::splat(frame.shear[1]),
+            N::splat(frame.shear[2]),
+        ];
         let (a, b, c) = (
-            self.relative(0, frame.axes, o),
-            self.relative(1, frame.axes, o),
-            self.relative(2, frame.axes, o),
+            self.relative(0, frame),
+            self.relative(1, frame),
+            self.relative(2, frame),
         );
-        let [u, v, w, det, distance, slope] = edge_functions(a, b, c, dir, shear);
-        let zero = N::splat(0.0);
-        let negative = u.lt(zero) | v.lt(zero) | w.lt(zero);
-        let positive = u.gt(zero) | v.gt(zero) | w.gt(zero);
-        let inverse = N::splat(1.0) / det;
+        let [u, v, w] = edge_functions(a, b, c, shear);
+        // Most blocks a ray meets hold no triangle it passes inside: they end
+        // here, before the plane's arithmetic and the two divisions.
+        let inside = straddles(u, v, w).bitmask() ^ ((1 << N::LANES) - 1);
+        if inside == 0 {
+            return false;
+        }
+        let dir = [
+            N::splat(frame.dir[0]),
+            N::splat(frame.dir[1]),
+            N::splat(frame.dir[2]),
+        ];
+        let [distance, slope] = plane_distance(a, b, c, dir);
+        let inverse = N::splat(1.0) / (u + v + w);
         let t = distance / slope;
         // Lanes hit within [t_min, hit.t]; the record's own rule (ties, t < ∞)
         // settles among them.
-        let candidates = (usable_denominators(inverse)
+        let ray = ray.ray;
+        let candidates = usable_denominators(inverse)
             & usable_denominators(slope)
             & t.ge(N::splat(ray.t_min))
-            & t.le(N::splat(hit.t)))
-        .and_not(negative & positive);
+            & t.le(N::splat(hit.t));
         hit.record_nearest_lane(
-            candidates.bitmask(),
+            candidates.bitmask() & inside,
             t,
             v * inverse,
             w * inverse,

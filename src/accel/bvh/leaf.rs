@@ -25,7 +25,7 @@ use crate::accel::stats::Counter;
 use crate::geometry::sphere::Spheres;
 use crate::geometry::triangle::{ProjectedTriangle, ProjectedTriangles, TriangleTest};
 use crate::geometry::triangle_watertight::{WatertightTriangle, WatertightTriangles};
-use crate::geometry::{BlockIntersect, Intersect, Primitive, Sphere};
+use crate::geometry::{BlockIntersect, BlockRay, Intersect, Primitive, Sphere};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{NodeLanes, SimdFloat};
@@ -69,7 +69,7 @@ pub fn intersect_blocks<
 >(
     blocks: &[B],
     count: usize,
-    ray: &Ray,
+    ray: &BlockRay,
     hit: &mut Hit,
     any_hit: bool,
     stats: &mut S,

@@ -17,9 +17,9 @@ use std::ops::Range;
 
 use crate::geometry::triangle::{MAX_BLOCK_ID, ProjectedTriangle, TriangleTest};
 use crate::geometry::triangle_watertight::WatertightTriangle;
-use crate::geometry::{Primitive, Sphere};
+use crate::geometry::{BlockRay, Primitive, Sphere};
 use crate::packet::{HitPacket, RayPacket};
-use crate::ray::{Hit, Ray};
+use crate::ray::Hit;
 use crate::simd::{Simd8, SimdFloat};
 
 /// The leaves' primitives. 120 bytes plus the lists.
@@ -159,7 +159,7 @@ impl LeafStore {
     pub fn intersect<N: Simd8, S: Counter>(
         &self,
         leaf: LeafRef,
-        ray: &Ray,
+        ray: &BlockRay,
         hit: &mut Hit,
         any_hit: bool,
         stats: &mut S,
@@ -178,7 +178,7 @@ impl LeafStore {
                 let mut recorded = false;
                 for prim in &self.records[range] {
                     stats.prim();
-                    recorded |= prim.intersect(&self.others, ray, hit);
+                    recorded |= prim.intersect(&self.others, ray.ray, hit);
                     if recorded && any_hit {
                         break;
                     }

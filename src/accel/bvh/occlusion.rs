@@ -10,15 +10,28 @@ use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::trace;
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
+use crate::geometry::BlockRay;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
 
 /// The any-hit query of one ray.
 pub struct AnyHit<'a> {
-    ray: &'a Ray,
+    /// The ray, prepared for the leaves' kernels.
+    ray: BlockRay<'a>,
     /// A scratch record (kernels need one); its t stays `t_max` until the end.
     hit: &'a mut Hit,
+}
+
+impl<'a> AnyHit<'a> {
+    /// The any-hit query of `ray`, with `hit` for the kernels' scratch record.
+    #[inline(always)]
+    fn new(ray: &'a Ray, hit: &'a mut Hit) -> Self {
+        Self {
+            ray: BlockRay::new(ray),
+            hit,
+        }
+    }
 }
 
 impl RayQuery for AnyHit<'_> {
@@ -26,13 +39,13 @@ impl RayQuery for AnyHit<'_> {
 
     #[inline(always)]
     fn t_max(&self) -> f32 {
-        self.ray.t_max
+        self.ray.ray.t_max
     }
 
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
         bvh.leaves()
-            .intersect::<N, S>(leaf, self.ray, self.hit, true, stats)
+            .intersect::<N, S>(leaf, &self.ray, self.hit, true, stats)
     }
 }
 
@@ -41,7 +54,7 @@ impl RayQuery for AnyHit<'_> {
 #[inline(always)]
 pub fn occluded<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
     let mut hit = Hit::none(ray);
-    trace::<N, _, S>(bvh, ray, &mut AnyHit { ray, hit: &mut hit }, stats)
+    trace::<N, _, S>(bvh, ray, &mut AnyHit::new(ray, &mut hit), stats)
 }
 
 /// The any-hit query of a packet: occluded lanes leave the packet.
@@ -72,7 +85,7 @@ impl<F: SimdFloat> LaneQueries<F> for AnyHitPacket<F> {
 
     #[inline(always)]
     fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> AnyHit<'a> {
-        AnyHit { ray, hit }
+        AnyHit::new(ray, hit)
     }
 
     #[inline(always)]

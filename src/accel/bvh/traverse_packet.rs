@@ -178,7 +178,7 @@ impl<F: SimdFloat> LaneQueries<F> for NearestPacket<'_, F> {
 
     #[inline(always)]
     fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> Nearest<'a> {
-        Nearest { ray, hit }
+        Nearest::new(ray, hit)
     }
 
     #[inline(always)]

@@ -20,6 +20,7 @@ use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::tree::TreeWidth;
 use crate::accel::bvh::wide::{ChildRef, RayTreeLanes};
 use crate::accel::stats::Counter;
+use crate::geometry::BlockRay;
 use crate::ray::{Hit, Ray};
 use crate::simd::Simd8;
 
@@ -181,10 +182,21 @@ impl Walk {
 
 /// The nearest-hit query: every primitive met may improve the record.
 pub struct Nearest<'a> {
-    /// The ray.
-    pub ray: &'a Ray,
+    /// The ray, prepared for the leaves' kernels.
+    ray: BlockRay<'a>,
     /// Its hit record.
-    pub hit: &'a mut Hit,
+    hit: &'a mut Hit,
+}
+
+impl<'a> Nearest<'a> {
+    /// The nearest-hit query of `ray`, improving on `hit`.
+    #[inline(always)]
+    pub fn new(ray: &'a Ray, hit: &'a mut Hit) -> Self {
+        Self {
+            ray: BlockRay::new(ray),
+            hit,
+        }
+    }
 }
 
 impl RayQuery for Nearest<'_> {
@@ -196,7 +208,7 @@ impl RayQuery for Nearest<'_> {
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
         bvh.leaves()
-            .intersect::<N, S>(leaf, self.ray, self.hit, false, stats);
+            .intersect::<N, S>(leaf, &self.ray, self.hit, false, stats);
         false
     }
 }
@@ -224,7 +236,7 @@ pub fn trace<N: Simd8, Q: RayQuery, S: Counter>(bvh: &Bvh, ray: &Ray, query: &mu
 #[inline(always)]
 pub fn intersect_into<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, hit: &mut Hit, stats: &mut S) {
     *hit = Hit::none(ray);
-    trace::<N, _, S>(bvh, ray, &mut Nearest { ray, hit }, stats);
+    trace::<N, _, S>(bvh, ray, &mut Nearest::new(ray, hit), stats);
 }
 
 /// The nearest hit of `ray`, with the instruction set's 8-lane type `N`.
