@@ -91,6 +91,67 @@ impl<T: Copy, const N: usize> Default for TraversalStack<T, N> {
     }
 }
 
+/// The slots of a stack whose length its user keeps, for the single-ray walk
+/// ([`traverse_single`](super::traverse_single)), which keeps it in a local
+/// beside the child it visits next. A length stored next to slots indexed at
+/// run time stays in memory (the compiler cannot tell it from the slots), and
+/// was loaded and stored at every push and pop; a local lives in a register.
+/// `N` is a power of two, so an index is kept in bounds by a mask rather than
+/// a compare and branch: a length past `N − 1` (which no tree the builder
+/// makes can reach, see [`pending_budget`](super::wide::pending_budget)) wraps
+/// around, fails the debug assertion in tests, and never touches memory
+/// outside the slots. `N · size_of::<T>()` bytes.
+pub struct StackSlots<T: Copy, const N: usize> {
+    entries: [MaybeUninit<T>; N],
+}
+
+impl<T: Copy, const N: usize> StackSlots<T, N> {
+    /// No entries (nothing is written).
+    #[inline(always)]
+    pub fn new() -> Self {
+        const { assert!(N.is_power_of_two()) };
+        Self {
+            entries: [const { MaybeUninit::uninit() }; N],
+        }
+    }
+
+    /// Write `entry` above the `len` entries held, and return the length
+    /// after pushing it if `keep` (the entry is written either way, so the
+    /// choice costs no branch).
+    #[inline(always)]
+    pub fn push_if(&mut self, len: usize, entry: T, keep: bool) -> usize {
+        debug_assert!(len + usize::from(keep) < N, "traversal stack overflow");
+        self.entries[len % N] = MaybeUninit::new(entry);
+        len + usize::from(keep)
+    }
+
+    /// The top of the `len` entries held, and the length without it; None
+    /// when `len` is 0.
+    #[inline(always)]
+    pub fn pop(&self, len: usize) -> Option<(T, usize)> {
+        let len = len.checked_sub(1)?;
+        // SAFETY: every push writes the slot it indexes before the length
+        // passes it, so each slot below a length (modulo N) has been written.
+        Some((unsafe { self.entries[len % N].assume_init() }, len))
+    }
+
+    /// Entries `run` (pushed and still held), bottom first.
+    #[inline(always)]
+    pub fn run_mut(&mut self, run: std::ops::Range<usize>) -> &mut [T] {
+        debug_assert!(run.end <= N);
+        let entries = &mut self.entries[run];
+        // SAFETY: entries below the length held were all written by a push,
+        // and `MaybeUninit<T>` has the layout of `T`.
+        unsafe { std::slice::from_raw_parts_mut(entries.as_mut_ptr().cast::<T>(), entries.len()) }
+    }
+}
+
+impl<T: Copy, const N: usize> Default for StackSlots<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,6 +173,37 @@ mod tests {
         assert_eq!(s.pop(), Some((0, 0.0)));
         assert_eq!(s.pop(), Some((1, 1.0)));
         assert!(s.pop().is_none());
+    }
+
+    #[test]
+    fn slots_pop_in_reverse_order_of_pushes() {
+        const N: usize = 8;
+        let mut s = StackSlots::<(u32, f32), N>::new();
+        assert!(s.pop(0).is_none());
+        let mut len = 0;
+        for k in 0..N as u32 - 1 {
+            len = s.push_if(len, (k, k as f32), true);
+        }
+        assert_eq!(s.push_if(len, (99, 99.0), false), N - 1);
+        s.run_mut(0..len).swap(0, 1);
+        for k in (2..N as u32 - 1).rev() {
+            let (entry, rest) = s.pop(len).unwrap();
+            assert_eq!((entry, rest), ((k, k as f32), k as usize));
+            len = rest;
+        }
+        assert_eq!(s.pop(len), Some(((0, 0.0), 1)));
+        assert_eq!(s.pop(1), Some(((1, 1.0), 0)));
+    }
+
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "traversal stack overflow")]
+    fn slots_past_capacity_fail_the_debug_assertion() {
+        let mut s = StackSlots::<u8, 4>::new();
+        let mut len = 0;
+        for _ in 0..4 {
+            len = s.push_if(len, 0, true);
+        }
     }
 
     #[test]

@@ -15,7 +15,7 @@ use std::mem::MaybeUninit;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::query::{INTERLEAVED, RayQuery};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
-use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
+use crate::accel::bvh::stack::{StackSlots, WIDE_STACK_SLOTS};
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::tree::TreeWidth;
 use crate::accel::bvh::wide::{ChildRef, RayTreeLanes};
@@ -35,9 +35,10 @@ pub fn traverse<N: Simd8, W: TreeWidth, Q: RayQuery, S: Counter>(
     query: &mut Q,
     stats: &mut S,
 ) -> bool {
-    let mut walk = Walk::new(start);
+    // The cursor is a local apart from the slots, so it stays in registers.
+    let (mut stack, mut cursor) = (StackSlots::new(), Cursor::new(start));
     loop {
-        if let Some(ended_early) = walk.step::<N, W, Q, S, false>(bvh, slab, query, stats) {
+        if let Some(ended_early) = cursor.step::<N, W, Q, S, false>(&mut stack, bvh, slab, query, stats) {
             return ended_early;
         }
     }
@@ -73,8 +74,8 @@ pub fn traverse_interleaved<N: Simd8, W: TreeWidth, Q: RayQuery, S: Counter>(
             let (lane, slab, query) = &mut walks[k];
             stats.lane(*lane);
             // SAFETY: the first `count` states were written above.
-            let state = unsafe { states[k].assume_init_mut() };
-            if let Some(early) = state.step::<N, W, Q, S, true>(bvh, slab, query, stats) {
+            let Walk { stack, cursor } = unsafe { states[k].assume_init_mut() };
+            if let Some(early) = cursor.step::<N, W, Q, S, true>(stack, bvh, slab, query, stats) {
                 walking &= !(1 << k);
                 ended_early |= u32::from(early) << k;
             }
@@ -83,11 +84,14 @@ pub fn traverse_interleaved<N: Simd8, W: TreeWidth, Q: RayQuery, S: Counter>(
     ended_early
 }
 
-/// One ray's walk through the wide tree: the child it visits next, and the
-/// children met but not yet visited, with their entry t. 3 KiB.
+/// The children met but not yet visited of one ray's walk, with their entry t. 3 KiB.
+type WalkStack = StackSlots<(ChildRef, f32), WIDE_STACK_SLOTS>;
+
+/// One ray's walk through the wide tree, as interleaved walks keep it: its
+/// stack and its cursor.
 struct Walk {
-    stack: TraversalStack<(ChildRef, f32), WIDE_STACK_SLOTS>,
-    next: ChildRef,
+    stack: WalkStack,
+    cursor: Cursor,
 }
 
 impl Walk {
@@ -95,8 +99,27 @@ impl Walk {
     #[inline(always)]
     fn new(start: ChildRef) -> Self {
         Self {
-            stack: TraversalStack::new(),
+            stack: StackSlots::new(),
+            cursor: Cursor::new(start),
+        }
+    }
+}
+
+/// Where one ray's walk stands: the child it visits next, and how many
+/// children wait on its stack. 16 bytes.
+#[derive(Clone, Copy)]
+struct Cursor {
+    next: ChildRef,
+    pending: usize,
+}
+
+impl Cursor {
+    /// A walk that starts at `start`, with nothing pending.
+    #[inline(always)]
+    fn new(start: ChildRef) -> Self {
+        Self {
             next: start,
+            pending: 0,
         }
     }
 
@@ -107,12 +130,12 @@ impl Walk {
     #[inline(always)]
     fn step<N: Simd8, W: TreeWidth, Q: RayQuery, S: Counter, const PREFETCH_NEXT: bool>(
         &mut self,
+        stack: &mut WalkStack,
         bvh: &Bvh,
         slab: &SlabRay,
         query: &mut Q,
         stats: &mut S,
     ) -> Option<bool> {
-        let stack = &mut self.stack;
         let next = self.next;
         stats.node();
         if next.is_leaf() {
@@ -138,7 +161,7 @@ impl Walk {
                 if rest != 0 {
                     bvh.prefetch::<W>(node.slot(far));
                 }
-                stack.push_if((node.slot(far), t[far]), rest != 0);
+                self.pending = stack.push_if(self.pending, (node.slot(far), t[far]), rest != 0);
                 self.next = node.slot(near);
                 if PREFETCH_NEXT {
                     bvh.prefetch::<W>(self.next);
@@ -147,16 +170,16 @@ impl Walk {
             }
             // More: push them sorted by decreasing entry t
             // (insertion), so the nearest is popped next.
-            let base = stack.len();
+            let base = self.pending;
             while bits != 0 {
                 let i = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
                 bvh.prefetch::<W>(node.slot(i));
-                stack.push((node.slot(i), t[i]));
+                self.pending = stack.push_if(self.pending, (node.slot(i), t[i]), true);
                 if !Q::NEAREST_FIRST {
                     continue;
                 }
-                let run = &mut stack.as_mut_slice()[base..];
+                let run = stack.run_mut(base..self.pending);
                 let mut k = run.len() - 1;
                 while k > 0 && run[k - 1].1 < run[k].1 {
                     run.swap(k - 1, k);
@@ -169,9 +192,10 @@ impl Walk {
         // was prefetched when pushed. An any-hit query's reach never shrinks,
         // so what it pushed stays in reach.
         loop {
-            let Some((child, t_entry)) = stack.pop() else {
+            let Some(((child, t_entry), pending)) = stack.pop(self.pending) else {
                 return Some(false);
             };
+            self.pending = pending;
             if !Q::NEAREST_FIRST || t_entry <= query.t_max() * FAR_SCALE {
                 self.next = child;
                 return None;
