@@ -57,6 +57,11 @@ if [ "${1:-}" = --measure ]; then
         into docs/results/traversal-dragon.json "$RAYPACK" bench traversal assets/dragon.ply \
             --size 1024x1024 --random 262144 --threads 1,2 --rounds 6 --engine "$ENGINES" --json
     fi
+    # Issue 54's matrix against Embree (tens of minutes); it needs the embree feature.
+    case ",$ENGINES," in
+    *,embree,*) "$RAYPACK" bench matrix --json docs/results/matrix.json ;;
+    *) echo "no docs/results/matrix.json: $RAYPACK has no Embree" >&2 ;;
+    esac
 elif [ -n "${1:-}" ]; then
     echo "usage: scripts/report.sh [--measure]" >&2
     exit 2

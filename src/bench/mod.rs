@@ -7,6 +7,7 @@ pub mod callgrind;
 pub mod change;
 pub mod figure;
 pub mod kernels;
+pub mod matrix;
 pub mod rays;
 pub mod result;
 pub mod scene;

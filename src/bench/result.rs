@@ -14,7 +14,7 @@ use crate::environment::Environment;
 /// A bench command's result; `R` is its row type (read back as JSON values).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BenchResult<R> {
-    /// The bench subcommand: `kernels`, `scene` or `traversal`.
+    /// The bench subcommand: `kernels`, `scene`, `traversal` or `matrix`.
     pub command: String,
     /// raypack's arguments as given (`bench traversal assets/dragon.ply
     /// --threads 1,2 …`), for a reader to run it again; empty in results

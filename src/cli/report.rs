@@ -18,7 +18,8 @@ use crate::report::{Input, RobustnessInput};
 /// Options of `report`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// JSON results of `raypack bench kernels|scene|traversal --json` or
+    /// JSON results of `raypack bench kernels|scene|traversal|matrix --json`
+    /// (a matrix is drawn as one table, raypack ÷ Embree per cell) or
     /// `raypack robustness --json`.
     #[arg(required = true)]
     pub results: Vec<PathBuf>,

@@ -71,7 +71,7 @@ impl WatertightTriangle {
 
 /// A ray in its shear frame (see the module documentation): all the
 /// watertight kernels derive from the ray alone, computed once per ray
-/// ([`BlockRay`](crate::geometry::BlockRay) carries it to every block the ray
+/// ([`BlockRay`] carries it to every block the ray
 /// meets). 64 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {

@@ -3,7 +3,8 @@
 //! JSON sidecar is [`crate::picture::render_report`]). Charts are drawn with
 //! plotters as SVG and inlined as data URIs, so the page loads nothing from anywhere.
 //!
-//! [`page`] lays the page out; [`engines`] tables raypack against Embree; [`chart`] draws a figure group's medians as bars
+//! [`page`] lays the page out; [`engines`] tables raypack against Embree;
+//! [`matrix`] tables a `bench matrix` result, raypack ÷ Embree per cell; [`chart`] draws a figure group's medians as bars
 //! with their 95% intervals; [`lines`] draws figures over thread counts or
 //! scene sizes; [`robustness`] tables the robustness oracle's results;
 //! [`html`] escapes text and inlines images.
@@ -15,6 +16,7 @@ pub mod chart;
 pub mod engines;
 pub mod html;
 pub mod lines;
+pub mod matrix;
 pub mod page;
 pub mod robustness;
 

@@ -1,6 +1,7 @@
 //! The report page: raypack against Embree by ray kind ([`engines`]), then
 //! per bench result file, the command that made it, its environment, a chart per group of
-//! figures (one figure name and unit, one scene), thread scaling where more
+//! figures (one figure name and unit, one scene; a `bench matrix` result is
+//! one table instead, [`matrix`]), thread scaling where more
 //! than one thread count was measured, growth over scene sizes where scenes
 //! of several sizes were, and the comparison with a baseline when the run
 //! made one; then per robustness result file its tables ([`robustness`]).
@@ -13,6 +14,7 @@ use crate::report::chart::{Bar, interval_bars};
 use crate::report::engines;
 use crate::report::html::{escape, pairs_table, png_image, svg_image};
 use crate::report::lines::{Line, XAxis, over};
+use crate::report::matrix;
 use crate::report::robustness;
 use crate::report::{Input, ReportError, RobustnessInput};
 
@@ -138,7 +140,14 @@ fn section(out: &mut String, input: &Input) -> Result<(), ReportError> {
         escape(&command)
     );
     out.push_str(&pairs_table(&r.environment.rows()));
-    for group in groups(&r.figures) {
+    // A matrix is one table: its cells are ratios, and a chart per scene would repeat it.
+    let charts = if matrix::is_matrix(input) {
+        out.push_str(&matrix::table(input));
+        Vec::new()
+    } else {
+        groups(&r.figures)
+    };
+    for group in charts {
         let first = group[0];
         let scene = first.label("scene");
         let title = if scene.is_empty() {

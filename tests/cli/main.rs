@@ -1,11 +1,13 @@
 //! The command line, one test crate: `render`, `stats`, `info`, `env`, `trace`,
-//! `robustness`, `report` and the `bench` subcommands (with their baselines),
+//! `robustness`, `report` and the `bench` subcommands (with their baselines;
+//! `bench matrix` with Embree),
 //! run as a user runs them (the built binary), bad input included.
 
 #[path = "../support/mod.rs"]
 mod support;
 
 mod bench_baseline;
+mod bench_matrix;
 mod bench_scene;
 mod bench_traversal;
 mod closed_stdout;

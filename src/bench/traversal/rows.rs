@@ -8,7 +8,7 @@ use crate::bench::traversal::engines::EngineVariant;
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
 use crate::embree_settings::EmbreeIsa;
 use crate::engines::{Engine, WithAccel};
-use crate::statistics::Summary;
+use crate::statistics::{StatsError, Summary};
 
 /// One row of the traversal table: a scene, an engine and a thread count.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -33,6 +33,10 @@ pub struct TraversalRow {
     pub kinds: Vec<KindRow>,
     /// Timed rounds per variant.
     pub rounds: usize,
+    /// raypack rows: build time over Embree's faster setting's (by medians),
+    /// round by round, when Embree was measured alongside.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub build_vs_embree: Option<Summary>,
 }
 
 impl TraversalRow {
@@ -128,6 +132,10 @@ pub struct KindRow {
     /// when Embree was measured alongside: single rays, packets.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vs_embree: Option<[Summary; 2]>,
+    /// raypack rows: its fastest path against Embree's fastest path and
+    /// setting on the same rays, when Embree was measured alongside.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub best_vs_embree: Option<BestVsEmbree>,
     /// Instructions per ray at one thread, counted by callgrind (`bench
     /// traversal --instructions`): single rays, packets (None where not traced).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -143,6 +151,21 @@ impl KindRow {
         }
     }
 }
+
+/// raypack's fastest path against Embree's fastest path and setting (each
+/// by median Mrays/s) on the same rays: the comparison of issue 54's matrix.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BestVsEmbree {
+    /// raypack's Mrays/s over Embree's, round by round.
+    pub ratio: Summary,
+    /// raypack's fastest path: `single` or `packet8`.
+    pub raypack: &'static str,
+    /// Embree's fastest setting and path: `embree(avx2) packet8`…
+    pub embree: String,
+}
+
+/// The names of a kind's two paths, in the order of its times.
+const PATHS: [&str; 2] = ["single", "packet8"];
 
 /// The table: per thread count of `thread_counts`, whose figures are
 /// `timings[t]`, a row for each scene and engine of `measured`, in order.
@@ -160,17 +183,22 @@ pub(super) fn rows(
                 .iter()
                 .position(|m| m.variant == on_scene.variant)
                 .unwrap_or(0);
-            // Embree on the same rays: its first ISA setting measured.
-            let embree = measured.iter().position(|m| {
-                on_scene.variant.engine == Engine::Raypack
-                    && m.variant.engine == Engine::Embree
-                    && std::ptr::eq(m.setup, on_scene.setup)
-            });
+            // Embree on the same rays, each ISA setting measured, in order.
+            let embree: Vec<(EngineVariant, &Timings)> = measured
+                .iter()
+                .zip(of_threads)
+                .filter(|(m, _)| {
+                    on_scene.variant.engine == Engine::Raypack
+                        && m.variant.engine == Engine::Embree
+                        && std::ptr::eq(m.setup, on_scene.setup)
+                })
+                .map(|(m, t)| (m.variant, t))
+                .collect();
             rows.push(row(
                 on_scene,
                 timing,
                 &of_threads[first].per_ray,
-                embree.map(|e| &of_threads[e].per_ray[..]),
+                &embree,
                 threads,
                 rounds,
             )?);
@@ -182,20 +210,19 @@ pub(super) fn rows(
 /// The table row of `measured`: its times as Mrays/s, the ratios, the growth of
 /// time per ray from `first_per_ray` (the engine's first scene, `timing`
 /// being its own figures at the row's thread count), the speed
-/// over Embree's on the same rays (`embree_per_ray`, when measured), and for
+/// over Embree's on the same rays (`embree`: each setting measured, the
+/// first for the path-by-path ratios; none when not measured), and for
 /// raypack the SAH cost and the traversal counts of one more (untimed) pass of each variant.
 fn row(
     measured: &EngineOnScene<'_>,
     timing: &Timings,
     first_per_ray: &[[Vec<f64>; 2]],
-    embree_per_ray: Option<&[[Vec<f64>; 2]]>,
+    embree: &[(EngineVariant, &Timings)],
     threads: usize,
     rounds: usize,
 ) -> anyhow::Result<TraversalRow> {
     let setup = measured.setup;
-    let mrays = |per_ray: &[f64]| Summary::of(&per_ray.iter().map(|t| 1e-6 / t).collect::<Vec<_>>());
-    // A path not traced (packets of a single-ray engine) has no times: no figure.
-    let traced = |per_ray: &[f64]| !per_ray.is_empty();
+    let embree_per_ray = embree.first().map(|(_, e)| &e.per_ray[..]);
     let kinds = setup
         .kinds
         .iter()
@@ -232,6 +259,7 @@ fn row(
                     ]),
                     None => None,
                 },
+                best_vs_embree: best_vs_embree(&timing.per_ray[k], embree, k)?,
                 instructions_per_ray: None,
             })
         })
@@ -248,7 +276,76 @@ fn row(
         resolution: setup.resolution,
         kinds,
         rounds,
+        build_vs_embree: build_vs_embree(&timing.build_ms, embree)?,
     })
+}
+
+/// Mrays/s of each round of `per_ray` (seconds per ray).
+fn mrays(per_ray: &[f64]) -> Result<Summary, StatsError> {
+    Summary::of(&per_ray.iter().map(|t| 1e-6 / t).collect::<Vec<_>>())
+}
+
+/// A path not traced (packets of a single-ray engine) has no times: no figure.
+fn traced(per_ray: &[f64]) -> bool {
+    !per_ray.is_empty()
+}
+
+/// The fastest of `paths` (a name and each round's seconds per ray) by
+/// median Mrays/s; None when none was traced.
+fn fastest<'t, N>(
+    paths: impl IntoIterator<Item = (N, &'t [f64])>,
+) -> Result<Option<(N, &'t [f64])>, StatsError> {
+    let mut best: Option<(f64, N, &[f64])> = None;
+    for (name, per_ray) in paths.into_iter().filter(|(_, t)| traced(t)) {
+        let median = mrays(per_ray)?.median;
+        if best.as_ref().is_none_or(|(m, _, _)| median > *m) {
+            best = Some((median, name, per_ray));
+        }
+    }
+    Ok(best.map(|(_, name, per_ray)| (name, per_ray)))
+}
+
+/// raypack's fastest path of `ours` (kind `k`'s times) against the fastest
+/// path and setting of `embree` on the same kind; None without Embree.
+fn best_vs_embree(
+    ours: &[Vec<f64>; 2],
+    embree: &[(EngineVariant, &Timings)],
+    k: usize,
+) -> Result<Option<BestVsEmbree>, StatsError> {
+    let theirs = embree.iter().flat_map(|(variant, t)| {
+        PATHS
+            .into_iter()
+            .zip(&t.per_ray[k])
+            .map(move |(path, per_ray)| ((*variant, path), &per_ray[..]))
+    });
+    let ours = PATHS.into_iter().zip(ours.iter().map(Vec::as_slice));
+    let (Some((path, ours)), Some(((variant, their_path), theirs))) = (fastest(ours)?, fastest(theirs)?)
+    else {
+        return Ok(None);
+    };
+    Ok(Some(BestVsEmbree {
+        ratio: Summary::paired_ratio(theirs, ours)?,
+        raypack: path,
+        embree: format!("{} {their_path}", variant.name()),
+    }))
+}
+
+/// raypack's build times `ours` over those of Embree's faster setting of
+/// `embree` (by medians), round by round; None without Embree.
+fn build_vs_embree(
+    ours: &[f64],
+    embree: &[(EngineVariant, &Timings)],
+) -> Result<Option<Summary>, StatsError> {
+    let mut faster: Option<(f64, &[f64])> = None;
+    for (_, t) in embree {
+        let median = Summary::of(&t.build_ms)?.median;
+        if faster.is_none_or(|(m, _)| median < m) {
+            faster = Some((median, &t.build_ms));
+        }
+    }
+    faster
+        .map(|(_, theirs)| Summary::paired_ratio(ours, theirs))
+        .transpose()
 }
 
 /// The traversal counts of a kind's rays on a structure that counts its work

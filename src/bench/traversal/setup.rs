@@ -4,7 +4,7 @@ use glam::Vec3;
 
 use crate::bench::rays::{KindRays, RayKind, RaySource, default_light};
 use crate::bounds::Aabb;
-use crate::camera::Camera;
+use crate::camera::{Camera, CameraError};
 use crate::scene::Scene;
 use crate::scene::generate::random::{bumpy_sphere, framing_camera, random_spheres};
 use crate::scene::generate::test_scenes::scene_of;
@@ -49,6 +49,25 @@ impl TraversalSetup {
             kinds: rays,
             resolution: (camera.width, camera.height),
         }
+    }
+
+    /// The rays of `kinds` for a loaded `scene` named `name`, seen by its own
+    /// camera (or a [`framing_camera`] where it has none) at `width × height`,
+    /// shadow rays going to its first light, plus `random` random rays; an
+    /// error where its camera cannot be made.
+    pub fn of_scene(
+        name: impl Into<String>,
+        scene: Scene,
+        (width, height): (u32, u32),
+        random: usize,
+        kinds: &[RayKind],
+    ) -> Result<Self, CameraError> {
+        let camera = match scene.camera {
+            Some(spec) => spec.camera_at(width, height)?,
+            None => framing_camera(scene_bounds(&scene), width, height),
+        };
+        let light = scene.lights.first().map(|l| l.position);
+        Ok(Self::new(name, scene, &camera, light, random, kinds))
     }
 
     /// A generated scene of about `n` primitives: `kind` is `mesh` (bumpy-sphere

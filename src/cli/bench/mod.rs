@@ -3,6 +3,7 @@
 //! subcommand; what they share is in [`output`].
 
 mod kernels;
+mod matrix;
 mod output;
 mod scene;
 mod traversal;
@@ -20,6 +21,10 @@ pub enum BenchCommand {
     Scene(scene::SceneArgs),
     /// BVH build time and traversal Mrays/s, single vs 8-ray packets, primary vs random rays.
     Traversal(traversal::TraversalArgs),
+    /// raypack against Embree on every ray kind, scene and thread count of
+    /// issue 54's matrix, best path against best path, and the build times
+    /// (needs the `embree` feature).
+    Matrix(matrix::MatrixArgs),
 }
 
 /// Run a bench subcommand.
@@ -28,5 +33,6 @@ pub fn run(cmd: BenchCommand) -> CliResult {
         BenchCommand::Kernels(args) => kernels::run(args),
         BenchCommand::Scene(args) => scene::run(args),
         BenchCommand::Traversal(args) => traversal::run(args),
+        BenchCommand::Matrix(args) => matrix::run(args),
     }
 }

@@ -4,6 +4,7 @@
 use clap::Args;
 use serde::Serialize;
 
+use crate::atomic_file::AtomicFile;
 use crate::bench::baseline;
 use crate::bench::change::{Comparison, DEFAULT_NOISE_THRESHOLD, Verdict, compare};
 use crate::bench::figure::Figure;
@@ -20,6 +21,14 @@ pub struct Output {
     /// Print the result as JSON (environment, rows, figures, comparison) instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// Baselines to store and compare with.
+    #[command(flatten)]
+    pub baselines: Baselines,
+}
+
+/// The baseline options every bench subcommand takes.
+#[derive(Args, Debug)]
+pub struct Baselines {
     /// Store this run as baseline NAME: NAME.json in $RAYPACK_BASELINE_DIR
     /// (default: target/raypack-baselines of the current directory).
     #[arg(long, value_name = "NAME")]
@@ -34,39 +43,75 @@ pub struct Output {
     pub noise_threshold: f64,
 }
 
+/// Where a run's JSON result goes.
+pub enum JsonTo {
+    /// Nowhere: the run prints its table.
+    Nowhere,
+    /// To stdout, instead of the table.
+    Stdout,
+    /// Into a file, claimed before measuring; the table still goes to stdout.
+    File(AtomicFile),
+}
+
 /// A bench subcommand's run, from before measuring to its output.
 pub struct Run<'a> {
-    output: &'a Output,
+    baselines: &'a Baselines,
+    json: JsonTo,
     command: &'static str,
     baseline: Option<StoredResult>,
+    /// Whether the table marks noisy figures `*` (as [`figure`] does), so
+    /// that a note under it says what the mark means.
+    marks_noise: bool,
     /// The bench timing hook.
     pub hooks: TimingHooks,
 }
 
 impl<'a> Run<'a> {
-    /// Checks what can fail before measuring: the baseline to compare with
-    /// exists, the name to save under is valid, the timing hook is well-formed.
+    /// [`Run::with`] the options of `output`: JSON to stdout or a table.
     pub fn start(output: &'a Output, command: &'static str) -> Result<Self, CliError> {
+        let json = if output.json {
+            JsonTo::Stdout
+        } else {
+            JsonTo::Nowhere
+        };
+        Self::with(&output.baselines, json, command)
+    }
+
+    /// Checks what can fail before measuring: the baseline to compare with
+    /// exists, the name to save under is valid, the timing hook is well-formed;
+    /// the JSON goes where `json` says.
+    pub fn with(baselines: &'a Baselines, json: JsonTo, command: &'static str) -> Result<Self, CliError> {
         let bad = |e: String| CliError::BadInput(anyhow::anyhow!(e));
-        if !(output.noise_threshold >= 0.0 && output.noise_threshold.is_finite()) {
+        if !(baselines.noise_threshold >= 0.0 && baselines.noise_threshold.is_finite()) {
             return Err(bad(format!(
                 "--noise-threshold {}: expected a percentage of 0 or more",
-                output.noise_threshold
+                baselines.noise_threshold
             )));
         }
-        if let Some(name) = &output.save_baseline {
+        if let Some(name) = &baselines.save_baseline {
             baseline::path(name).map_err(bad)?;
         }
-        let stored = match &output.baseline {
+        let stored = match &baselines.baseline {
             Some(name) => Some(baseline::load(name, command).map_err(bad)?),
             None => None,
         };
         Ok(Self {
-            output,
+            baselines,
+            json,
             command,
             baseline: stored,
+            marks_noise: true,
             hooks: TimingHooks::from_env().map_err(bad)?,
         })
+    }
+
+    /// The same run for a table that shows intervals rather than noise marks:
+    /// no note about them under it.
+    pub fn without_noise_marks(self) -> Self {
+        Self {
+            marks_noise: false,
+            ..self
+        }
     }
 
     /// Print the result (as `table` prints rows, or JSON), store it as a
@@ -87,11 +132,11 @@ impl<'a> Run<'a> {
             figures,
             comparison: None,
         };
-        let threshold = self.output.noise_threshold / 100.0;
+        let threshold = self.baselines.noise_threshold / 100.0;
         result.comparison = self.baseline.map(|old| {
             let (changes, unmatched) = compare(&old.figures, &result.figures, threshold);
             Comparison {
-                baseline: self.output.baseline.clone().unwrap_or_default(),
+                baseline: self.baselines.baseline.clone().unwrap_or_default(),
                 baseline_commit: old.environment.commit_label(),
                 baseline_date: old.environment.date,
                 noise_threshold: threshold,
@@ -100,17 +145,18 @@ impl<'a> Run<'a> {
             }
         });
         let stored = result.stored().map_err(anyhow::Error::from)?;
-        if let Some(name) = &self.output.save_baseline {
+        if let Some(name) = &self.baselines.save_baseline {
             let path = baseline::save(name, &stored).map_err(|e| CliError::Failed(anyhow::anyhow!(e)))?;
             eprintln!("baseline {name} saved to {}", path.display());
         }
-        if self.output.json {
-            let text = serde_json::to_string_pretty(&stored).map_err(anyhow::Error::from)?;
-            outln!("{text}")?;
-            return Ok(());
+        let json = || serde_json::to_string_pretty(&stored).map_err(anyhow::Error::from);
+        match self.json {
+            JsonTo::Nowhere => {}
+            JsonTo::Stdout => return outln!("{}", json()?),
+            JsonTo::File(file) => file.commit(format!("{}\n", json()?).as_bytes())?,
         }
         table(&result.rows)?;
-        if result.figures.iter().any(|f| f.summary.noisy) {
+        if self.marks_noise && result.figures.iter().any(|f| f.summary.noisy) {
             outln!("{NOISY_NOTE}")?;
         }
         let env = &result.environment;

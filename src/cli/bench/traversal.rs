@@ -8,7 +8,6 @@ use crate::bench::rays::RayKind;
 use crate::bench::traversal::EngineVariant;
 use crate::bench::traversal::{
     Builder, KindRow, TraversalRow, TraversalSetup, count_instructions, instructions_per_ray, measure,
-    scene_bounds,
 };
 use crate::cli::args::{load_scene, parse_size};
 use crate::cli::bench::output::{Output, Run, figure};
@@ -16,7 +15,6 @@ use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::embree_settings::EmbreeIsa;
 use crate::engines::Engine;
-use crate::scene::generate::random::framing_camera;
 
 /// Options of `bench traversal`.
 #[derive(Args, Debug)]
@@ -136,27 +134,15 @@ pub fn run(args: TraversalArgs) -> CliResult {
 
 /// The scenes of `args` with their rays: its SCENE, or the generated family.
 fn setups(args: &TraversalArgs) -> Result<Vec<TraversalSetup>, CliError> {
-    let (width, height) = args.size;
     Ok(match &args.scene {
         Some(path) => {
             let (scene, _) = load_scene(path)?;
-            let camera = match scene.camera {
-                Some(spec) => spec.camera_at(width, height),
-                None => Ok(framing_camera(scene_bounds(&scene), width, height)),
-            }
-            .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
             let name = path
                 .file_stem()
                 .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-            let light = scene.lights.first().map(|l| l.position);
-            vec![TraversalSetup::new(
-                name,
-                scene,
-                &camera,
-                light,
-                args.random,
-                &args.rays,
-            )]
+            let setup = TraversalSetup::of_scene(name, scene, args.size, args.random, &args.rays)
+                .map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
+            vec![setup]
         }
         None => args
             .sizes
