@@ -31,8 +31,9 @@ pub struct Cli {
     #[arg(long, global = true, default_value = "auto", value_parser = clap::value_parser!(Isa))]
     pub isa: Isa,
     /// Ray/triangle test of every scene loaded: watertight (Woop, Benthin and
-    /// Wald 2013: no ray slips between triangles sharing an edge) or
-    /// barycentric (the lecture's projected test)
+    /// Wald 2013: no ray slips between triangles sharing an edge; polygons are
+    /// cut into such triangles) or barycentric (the lecture's kernels: the
+    /// projected test, and the crossing test for polygons)
     #[arg(long, global = true, value_enum, default_value_t = TriangleTest::default())]
     pub triangle: TriangleTest,
     /// What to do.

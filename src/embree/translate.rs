@@ -3,7 +3,7 @@
 //! | raypack | Embree |
 //! | --- | --- |
 //! | [`Triangle`](crate::geometry::Triangle) | triangle mesh (vertex order kept, so `u, v` mean the same) |
-//! | [`Polygon`](crate::geometry::Polygon), simple | triangles by ear clipping, vertices first projected onto the polygon's plane (fixed by its first three vertices, as raypack's kernel does) |
+//! | [`Polygon`](crate::geometry::Polygon), simple | the triangles raypack tests: its watertight pieces (the default), or under the crossing test the polygon ear-clipped with its vertices projected onto its plane (fixed by its first three vertices, as that kernel's is) |
 //! | [`Polygon`](crate::geometry::Polygon), self-crossing | user geometry: ear clipping would cover another region than the even-odd rule |
 //! | [`Sphere`](crate::geometry::Sphere) | `SPHERE_POINT` |
 //! | inside-only sphere (NFF negative radius) | user geometry: Embree's spheres are visible from outside |
@@ -105,12 +105,20 @@ fn local(prim: &Primitive) -> Local {
         Primitive::Sphere(s) => Local::Native(NativeShape::Sphere(s.center, s.radius)),
         Primitive::Triangle(t) if t.is_degenerate() => Local::Empty,
         Primitive::Triangle(t) => Local::Native(NativeShape::Triangles(vec![t.vertices()])),
-        // On raypack's plane, so both engines hit the same surface.
-        Primitive::Polygon(p) => match p.triangles() {
-            Ok(tris) if tris.is_empty() => Local::Empty,
-            Ok(tris) => Local::Native(NativeShape::Triangles(tris)),
-            Err(_) => Local::User,
-        },
+        // The triangles raypack tests: its watertight pieces, or for the
+        // crossing test the polygon cut on its plane; either way both engines
+        // hit the same surface.
+        Primitive::Polygon(p) => {
+            let triangles = match p.watertight_pieces() {
+                Some(pieces) => Ok(pieces.to_vec()),
+                None => p.triangles(),
+            };
+            match triangles {
+                Ok(tris) if tris.is_empty() => Local::Empty,
+                Ok(tris) => Local::Native(NativeShape::Triangles(tris)),
+                Err(_) => Local::User,
+            }
+        }
         // Planes, and shapes Embree has no type for (cones, …).
         _ => Local::User,
     }
@@ -143,7 +151,7 @@ pub fn place(prim: &Primitive) -> Placement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::{Plane, Polygon, Sphere, Transformed, Triangle};
+    use crate::geometry::{Plane, Polygon, Sphere, Transformed, Triangle, TriangleTest};
     use glam::Quat;
 
     #[test]
@@ -200,19 +208,24 @@ mod tests {
     }
 
     #[test]
-    fn polygon_triangles_lie_on_the_polygon_plane() {
+    fn polygon_triangles_are_the_surface_raypack_tests() {
         // The fourth vertex is a little off the plane of the first three.
-        let p = Polygon::new(&[
+        let mut p = Polygon::new(&[
             Vec3::ZERO,
             Vec3::X,
             Vec3::new(1.0, 1.0, 0.01),
             Vec3::new(0.0, 1.0, -0.02),
         ])
         .unwrap();
-        let Placement::Native(NativeShape::Triangles(tris)) = place(&Primitive::Polygon(p.clone())) else {
-            panic!("a simple polygon is triangulated");
+        let triangles = |p: &Polygon| match place(&Primitive::Polygon(p.clone())) {
+            Placement::Native(NativeShape::Triangles(tris)) => tris,
+            other => panic!("a simple polygon is triangulated: {other:?}"),
         };
-        for v in tris.iter().flatten() {
+        // The watertight pieces, as they are.
+        assert_eq!(triangles(&p), p.watertight_pieces().unwrap());
+        // For the crossing test, which hits the plane: on the plane.
+        p.set_test(TriangleTest::Barycentric);
+        for v in triangles(&p).iter().flatten() {
             assert!((p.normal().dot(*v) - p.plane_offset()).abs() < 1e-6);
         }
         let mut stats = TranslationStats::default();

@@ -242,6 +242,20 @@ macro_rules! dispatch {
 }
 
 impl Primitive {
+    /// The polygon with `vertices` in order, refused as [`Polygon::new`]
+    /// refuses it; one of three vertices is the [`Triangle`] it is. The
+    /// triangle's kernels are the faster (in a BVH leaf, a block of 8 in one
+    /// pass, where a polygon is one scalar call) and the watertight one closes
+    /// the edges that triangles share, where the crossing test's rounding can
+    /// let a ray through. (SPD `tetra` and `mount` are made of `p 3`.)
+    pub fn polygon(vertices: &[Vec3]) -> Result<Primitive, GeometryError> {
+        Polygon::normal_of(vertices)?;
+        Ok(match *vertices {
+            [a, b, c] => Primitive::Triangle(Triangle::new(a, b, c)),
+            _ => Primitive::Polygon(Polygon::new(vertices)?),
+        })
+    }
+
     /// The kind of this primitive.
     pub fn kind(&self) -> PrimitiveKind {
         match self {
@@ -267,10 +281,12 @@ impl Primitive {
         }
     }
 
-    /// Put every triangle in this primitive (a transformed one included) under `test`.
+    /// Put every triangle and polygon in this primitive (a transformed one
+    /// included) under `test`.
     pub fn set_triangle_test(&mut self, test: TriangleTest) {
         match self {
             Primitive::Triangle(t) => *t = t.with_test(test),
+            Primitive::Polygon(p) => p.set_test(test),
             Primitive::Transformed(t) => t.set_triangle_test(test),
             _ => {}
         }

@@ -8,12 +8,26 @@
 //! half-open so a vertex shared by two edges counts once) and the crossing
 //! `x_i + (y − y_i)·(x_{i+1} − x_i)/(y_{i+1} − y_i)` lies to the right of the point.
 //! Horizontal edges can never be crossed and are dropped when the polygon is built.
+//!
+//! That is the kernel under [`TriangleTest::Barycentric`] (the lecture's
+//! kernels). Under [`TriangleTest::Watertight`], the default, a polygon is
+//! tested as its surface cut into triangles (ear clipping on its plane,
+//! [`Polygon::triangles`]), each under the watertight test: no ray passes
+//! between the pieces, nor between the polygon and a neighbour that shares an
+//! edge, and a BVH stores the pieces in its triangle blocks, 8 tested in one
+//! pass with tight boxes, where the crossing test walks every edge of the
+//! polygon (144 on an SPD gear's face). A hit names the polygon either way;
+//! its `u, v` are 0 under the crossing test, and the barycentrics within the
+//! piece hit under the pieces.
 
 use glam::Vec3;
 
 use crate::bounds::Aabb;
 use crate::geometry::ear_clip::{EarClipError, ear_clip};
-use crate::geometry::{GeometryError, Intersect, usable_denominator, usable_denominators};
+use crate::geometry::triangle_watertight::WatertightTriangle;
+use crate::geometry::{
+    GeometryError, Intersect, Triangle, TriangleTest, usable_denominator, usable_denominators,
+};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
@@ -29,7 +43,8 @@ struct Edge {
     dx_dy: f32,
 }
 
-/// A planar polygon. 80 bytes, plus 16 bytes per non-horizontal edge and 12 per vertex.
+/// A planar polygon. 104 bytes, plus 16 bytes per non-horizontal edge, 12 per
+/// vertex and 36 per watertight piece.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Polygon {
     /// Unit normal, fixed by the first three vertices (counter-clockwise = front).
@@ -46,20 +61,20 @@ pub struct Polygon {
     bounds: Aabb,
     /// The vertices as given (for exporters and triangulation; the kernels use `edges`).
     vertices: Box<[Vec3]>,
+    /// The surface as triangles of non-zero area (cut as [`Polygon::triangles`]
+    /// cuts it, with the vertices as given), the pieces the watertight kernels
+    /// test; None for an outline ear clipping cannot cut (its edges cross),
+    /// which the crossing test serves under either test.
+    pieces: Option<Box<[[Vec3; 3]]>>,
+    /// Which kernels run: the crossing test, or the watertight pieces.
+    test: TriangleTest,
 }
 
 impl Polygon {
     /// Build from vertices in order. The first three fix the normal (the NFF
     /// rule), so they must not be collinear; at least three vertices are needed.
     pub fn new(vertices: &[Vec3]) -> Result<Self, GeometryError> {
-        if vertices.len() < 3 {
-            return Err(GeometryError::TooFewVertices(vertices.len()));
-        }
-        if !vertices.iter().all(|v| v.is_finite()) {
-            return Err(GeometryError::NotFinite);
-        }
-        let n = (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]);
-        let normal = n.try_normalize().ok_or(GeometryError::CollinearVertices)?;
+        let normal = Self::normal_of(vertices)?;
         let abs = normal.abs();
         let k = if abs.x >= abs.y && abs.x >= abs.z {
             0
@@ -93,14 +108,61 @@ impl Polygon {
             on_plane
         };
         let lifted = vertices.iter().map(|&v| lift(v)).filter(|p| p.is_finite());
-        Ok(Self {
+        let mut polygon = Self {
             normal,
             d,
             k: k as u32,
             edges,
             bounds: Aabb::from_points(vertices.iter().copied().chain(lifted)),
             vertices: vertices.into(),
-        })
+            pieces: None,
+            test: TriangleTest::default(),
+        };
+        // Cut the surface into the watertight kernels' pieces: cut on the
+        // plane, with the vertices as given at the corners, so a neighbour
+        // with the same vertices shares the pieces' edges bit for bit (a vertex
+        // moved onto each polygon's plane rounds differently in each). Pieces
+        // of zero area are dropped: no ray hits them, and a BVH cannot hold them.
+        polygon.pieces = polygon.ear_clipped().ok().map(|pieces| {
+            pieces
+                .iter()
+                .map(|t| t.map(|i| vertices[i as usize]))
+                .filter(|&[a, b, c]| !Triangle::new(a, b, c).is_degenerate())
+                .collect()
+        });
+        Ok(polygon)
+    }
+
+    /// Put the polygon under `test`'s kernels (see the module documentation).
+    pub fn set_test(&mut self, test: TriangleTest) {
+        self.test = test;
+    }
+
+    /// The test its kernels run.
+    pub fn test(&self) -> TriangleTest {
+        self.test
+    }
+
+    /// The watertight pieces its kernels test, if it is tested so; a BVH
+    /// holds these in its polygon's place, each hit naming the polygon.
+    pub fn watertight_pieces(&self) -> Option<&[[Vec3; 3]]> {
+        match self.test {
+            TriangleTest::Watertight => self.pieces.as_deref(),
+            TriangleTest::Barycentric => None,
+        }
+    }
+
+    /// The unit normal of a polygon with `vertices`, or why they make none:
+    /// fewer than three, a non-finite one, or the first three collinear.
+    pub fn normal_of(vertices: &[Vec3]) -> Result<Vec3, GeometryError> {
+        if vertices.len() < 3 {
+            return Err(GeometryError::TooFewVertices(vertices.len()));
+        }
+        if !vertices.iter().all(|v| v.is_finite()) {
+            return Err(GeometryError::NotFinite);
+        }
+        let n = (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]);
+        n.try_normalize().ok_or(GeometryError::CollinearVertices)
     }
 
     /// Unit normal.
@@ -123,12 +185,23 @@ impl Polygon {
     /// (Eberly), for engines that take triangles only; none for a polygon of
     /// zero area.
     pub fn triangles(&self) -> Result<Vec<[Vec3; 3]>, EarClipError> {
-        let (n, d) = (self.normal, self.d);
-        let on_plane: Vec<Vec3> = self.vertices.iter().map(|&v| v - (n.dot(v) - d) * n).collect();
-        Ok(ear_clip(&on_plane, n)?
+        let on_plane = self.on_plane();
+        Ok(self
+            .ear_clipped()?
             .iter()
             .map(|t| t.map(|i| on_plane[i as usize]))
             .collect())
+    }
+
+    /// The vertices moved onto the plane.
+    fn on_plane(&self) -> Vec<Vec3> {
+        let (n, d) = (self.normal, self.d);
+        self.vertices.iter().map(|&v| v - (n.dot(v) - d) * n).collect()
+    }
+
+    /// The triangles of the outline ear-clipped on the plane, as vertex indices.
+    fn ear_clipped(&self) -> Result<Vec<[u32; 3]>, EarClipError> {
+        ear_clip(&self.on_plane(), self.normal)
     }
 
     /// The polygon's plane `⟨normal, p⟩ = d` (fixed by the first three vertices).
@@ -146,6 +219,13 @@ impl Intersect for Polygon {
     /// Scalar kernel.
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
+        if let Some(pieces) = self.watertight_pieces() {
+            let mut any = false;
+            for &[a, b, c] in pieces {
+                any |= WatertightTriangle::new(a, b, c).intersect(ray, prim, hit);
+            }
+            return any;
+        }
         let denom = self.normal.dot(ray.dir);
         if !usable_denominator(denom) {
             return false;
@@ -172,9 +252,15 @@ impl Intersect for Polygon {
         true
     }
 
-    /// Packet kernel: every edge is tested against all lanes at once.
+    /// Packet kernel: every edge (or piece) is tested against all lanes at once.
     #[inline(always)]
     fn intersect_packet<F: SimdFloat>(&self, rays: &RayPacket<F>, prim: u32, hits: &mut HitPacket<F>) {
+        if let Some(pieces) = self.watertight_pieces() {
+            for &[a, b, c] in pieces {
+                WatertightTriangle::new(a, b, c).intersect_packet(rays, prim, hits);
+            }
+            return;
+        }
         let denom = rays.dir.dot_splat(self.normal);
         let t = (F::splat(self.d) - rays.origin.dot_splat(self.normal)) / denom;
         let mask = hits.accepts(rays, t, prim) & usable_denominators(denom);

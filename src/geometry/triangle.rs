@@ -48,10 +48,12 @@ pub enum TriangleTest {
     /// The lecture's projected barycentric test (this file), with an edge
     /// margin of `EDGE_EPSILON` (2⁻²⁰): fewest operations, but a ray through a
     /// shared edge or vertex may slip between the two triangles' roundings.
+    /// Polygons run the lecture's crossing test.
     Barycentric,
     /// The watertight test of Woop, Benthin and Wald 2013
     /// ([`triangle_watertight`](crate::geometry::triangle_watertight)): no ray
-    /// passes between triangles that share an edge.
+    /// passes between triangles that share an edge. Polygons are tested as
+    /// their surface cut into such triangles.
     #[default]
     Watertight,
 }

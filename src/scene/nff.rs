@@ -13,7 +13,7 @@
 //! | `l` | a [`Light`] (white when no colour is given) |
 //! | `f` | a new [`Material`] for the objects that follow |
 //! | `s` | a [`Sphere`]; a negative radius makes it [inside-only](Sphere::inside_only) |
-//! | `p` | a [`Polygon`] (concave allowed; < 3 vertices or collinear first three are errors) |
+//! | `p` | a [`Polygon`] (concave allowed; < 3 vertices or collinear first three are errors); of 3 vertices a [`Triangle`] ([`Primitive::polygon`]) |
 //! | `pp` | 3 vertices: a [`Triangle`] with its vertex normals in [`Scene::vertex_normals`]; more: a flat [`Polygon`] (the normals are dropped) |
 //! | `c` | a [`Cone`] |
 //!
@@ -355,7 +355,7 @@ impl<'a> Reader<'a> {
             b"p" => {
                 let n = self.integer(3, &|| "the polygon's vertex count".into())? as usize;
                 self.vertices("polygon", n, None)?;
-                let polygon = Polygon::new(&self.vertices).map(Primitive::Polygon);
+                let polygon = Primitive::polygon(&self.vertices);
                 self.push(polygon, line).map(drop)
             }
             b"pp" => {

@@ -4,6 +4,8 @@
 //! random scenes of every primitive type and for mixed scenes.
 
 use crate::support;
+use raypack::accel::Bvh;
+use raypack::geometry::{Primitive, TriangleTest};
 use raypack::scene::generate::random;
 
 #[test]
@@ -18,7 +20,27 @@ fn triangles() {
 
 #[test]
 fn polygons() {
-    support::bvh::check_scene("polygons", &random::random_polygons(1000, 3), 103);
+    // Under both kernels: the watertight pieces (held in the tree in their
+    // polygon's place, one item per piece) and the crossing test (one per polygon).
+    let mut prims = random::random_polygons(1000, 3);
+    let pieces: usize = prims
+        .iter()
+        .map(|p| match p {
+            Primitive::Polygon(p) => p.watertight_pieces().expect("random polygons are simple").len(),
+            _ => 1,
+        })
+        .sum();
+    assert!(
+        pieces > 2 * prims.len(),
+        "{pieces} pieces: too few to test the cut"
+    );
+    assert_eq!(Bvh::new(&prims).info().primitives, pieces);
+    support::bvh::check_scene("polygons, pieces", &prims, 103);
+    for p in &mut prims {
+        p.set_triangle_test(TriangleTest::Barycentric);
+    }
+    assert_eq!(Bvh::new(&prims).info().primitives, prims.len());
+    support::bvh::check_scene("polygons, crossing test", &prims, 104);
 }
 
 #[test]

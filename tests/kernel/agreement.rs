@@ -6,7 +6,7 @@ use crate::support::kernel::{assert_packet_matches_scalar, random_ray};
 use glam::{Mat4, Quat, Vec3};
 use raypack::bench::kernels::star_polygon;
 use raypack::geometry::triangle::intersect_half_plane;
-use raypack::geometry::{Intersect, Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
+use raypack::geometry::{Intersect, Plane, Polygon, Primitive, Sphere, Transformed, Triangle, TriangleTest};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
 use wide::{f32x4, f32x8, f32x16};
@@ -96,22 +96,29 @@ fn triangle_packet_matches_scalar() {
 
 #[test]
 fn polygon_packet_matches_scalar() {
-    agree(
-        "star polygon",
-        &star_polygon(),
-        Vec3::splat(-1.0),
-        Vec3::splat(1.0),
-        20,
-    );
-    // A concave L-shape in a tilted plane.
-    let l_shape = crate::L_SHAPE.map(|(x, y)| Vec3::new(x, 0.5 * x - 0.25 * y, y));
-    agree(
-        "L polygon",
-        &Polygon::new(&l_shape).unwrap(),
-        Vec3::ZERO,
-        Vec3::splat(2.0),
-        21,
-    );
+    // Both kernels: the crossing test, and the watertight pieces.
+    for test in [TriangleTest::Barycentric, TriangleTest::Watertight] {
+        let mut star = star_polygon();
+        star.set_test(test);
+        agree(
+            &format!("star polygon, {test:?}"),
+            &star,
+            Vec3::splat(-1.0),
+            Vec3::splat(1.0),
+            20,
+        );
+        // A concave L-shape in a tilted plane.
+        let l_shape = crate::L_SHAPE.map(|(x, y)| Vec3::new(x, 0.5 * x - 0.25 * y, y));
+        let mut l = Polygon::new(&l_shape).unwrap();
+        l.set_test(test);
+        agree(
+            &format!("L polygon, {test:?}"),
+            &l,
+            Vec3::ZERO,
+            Vec3::splat(2.0),
+            21,
+        );
+    }
 }
 
 #[test]

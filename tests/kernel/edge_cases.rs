@@ -7,7 +7,9 @@
 use crate::support::kernel::assert_poisoned_rays_miss;
 use glam::{DVec3, Mat4, Quat, Vec3};
 use raypack::bench::kernels::star_polygon;
-use raypack::geometry::{GeometryError, Intersect, Plane, Polygon, Primitive, Sphere, Transformed, Triangle};
+use raypack::geometry::{
+    GeometryError, Intersect, Plane, Polygon, Primitive, Sphere, Transformed, Triangle, TriangleTest,
+};
 use raypack::packet::{HitPacket, RayPacket8};
 use raypack::ray::{Hit, Ray};
 use raypack::rng::Rng;
@@ -254,43 +256,106 @@ fn degenerate_triangles_are_never_hit() {
 
 // ---- polygons ------------------------------------------------------------------
 
-/// The L in the plane z = 0.
-fn l_shape() -> Polygon {
-    Polygon::new(&crate::L_SHAPE.map(|(x, y)| Vec3::new(x, y, 0.0))).unwrap()
+/// The L in the plane z = 0, under `test`'s kernels.
+fn l_shape(test: TriangleTest) -> Polygon {
+    let mut l = Polygon::new(&crate::L_SHAPE.map(|(x, y)| Vec3::new(x, y, 0.0))).unwrap();
+    l.set_test(test);
+    l
 }
+
+/// Both polygon kernels: the crossing test, and the watertight pieces.
+const POLYGON_TESTS: [TriangleTest; 2] = [TriangleTest::Barycentric, TriangleTest::Watertight];
 
 #[test]
 fn concave_polygon_notch_is_a_miss() {
-    let l = l_shape();
-    let down = [0.0, 0.0, -1.0];
-    assert_t(trace(&l, ray([0.5, 0.5, 1.0], down)), 1.0);
-    assert_t(trace(&l, ray([1.5, 0.5, 1.0], down)), 1.0);
-    assert_t(trace(&l, ray([0.5, 1.5, 1.0], down)), 1.0);
-    // Through the notch.
-    assert!(trace(&l, ray([1.5, 1.5, 1.0], down)).is_none());
-    // The crossing ray from a point in the notch passes a reflex vertex at y = 1.
-    assert!(trace(&l, ray([1.5, 1.0 + 1e-3, 1.0], down)).is_none());
-    assert_t(trace(&l, ray([0.5, 1.0, 1.0], down)), 1.0);
-    // Outside entirely.
-    assert!(trace(&l, ray([2.5, 0.5, 1.0], down)).is_none());
-    assert!((l.normal() - Vec3::Z).length() < 1e-6);
+    for test in POLYGON_TESTS {
+        let l = l_shape(test);
+        let down = [0.0, 0.0, -1.0];
+        assert_t(trace(&l, ray([0.5, 0.5, 1.0], down)), 1.0);
+        assert_t(trace(&l, ray([1.5, 0.5, 1.0], down)), 1.0);
+        assert_t(trace(&l, ray([0.5, 1.5, 1.0], down)), 1.0);
+        // Through the notch.
+        assert!(trace(&l, ray([1.5, 1.5, 1.0], down)).is_none(), "{test:?}");
+        // The crossing ray from a point in the notch passes a reflex vertex at y = 1.
+        assert!(trace(&l, ray([1.5, 1.0 + 1e-3, 1.0], down)).is_none(), "{test:?}");
+        assert_t(trace(&l, ray([0.5, 1.0, 1.0], down)), 1.0);
+        // Outside entirely.
+        assert!(trace(&l, ray([2.5, 0.5, 1.0], down)).is_none(), "{test:?}");
+        assert!((l.normal() - Vec3::Z).length() < 1e-6);
+    }
 }
 
 #[test]
 fn star_polygon_points_hit_and_notches_miss() {
-    let star = star_polygon(); // tips at radius 1, notches at radius 0.4, plane z = 0.3x
-    let a_tip = 0.0f32; // a tip direction
-    let a_notch = std::f32::consts::TAU / 20.0; // halfway between a tip and a notch vertex
-    for (angle, r, inside) in [
-        (a_tip, 0.9, true),
-        (a_notch, 0.8, false),
-        (a_notch, 0.2, true),
-        (0.0, 0.0, true),
-    ] {
-        let (x, y) = (r * angle.cos(), r * angle.sin());
-        let hit = trace(&star, ray([x, y, 0.3 * x + 2.0], [0.0, 0.0, -1.0]));
-        assert_eq!(hit.is_some(), inside, "angle {angle} r {r}");
+    for test in POLYGON_TESTS {
+        let mut star = star_polygon(); // tips at radius 1, notches at radius 0.4, plane z = 0.3x
+        star.set_test(test);
+        let a_tip = 0.0f32; // a tip direction
+        let a_notch = std::f32::consts::TAU / 20.0; // halfway between a tip and a notch vertex
+        for (angle, r, inside) in [
+            (a_tip, 0.9, true),
+            (a_notch, 0.8, false),
+            (a_notch, 0.2, true),
+            (0.0, 0.0, true),
+        ] {
+            let (x, y) = (r * angle.cos(), r * angle.sin());
+            let hit = trace(&star, ray([x, y, 0.3 * x + 2.0], [0.0, 0.0, -1.0]));
+            assert_eq!(hit.is_some(), inside, "{test:?}: angle {angle} r {r}");
+        }
     }
+}
+
+#[test]
+fn polygon_pieces_cover_what_the_crossing_test_hits() {
+    // The watertight pieces are the polygon's surface cut on its plane: on
+    // random rays through its box, they hit where the crossing test hits, at
+    // the same t, except within rounding of an edge.
+    let mut rng = Rng::new(41);
+    let (mut star, mut hits) = (star_polygon(), 0);
+    for _ in 0..20_000 {
+        let target = Vec3::new(rng.range(-1.2, 1.2), rng.range(-1.2, 1.2), 0.0);
+        let target = target + Vec3::Z * (0.3 * target.x);
+        let origin = target + 3.0 * rng.unit_vector();
+        let r = Ray::unbounded(origin, (target - origin).normalize());
+        star.set_test(TriangleTest::Barycentric);
+        let crossing = trace(&star, r);
+        star.set_test(TriangleTest::Watertight);
+        let pieces = trace(&star, r);
+        let near_edge = star_edge_distance(target) < 1e-4;
+        match (crossing, pieces) {
+            (Some(c), Some(p)) => {
+                hits += 1;
+                // The same plane up to the vertices' rounding: the two t may
+                // differ by that rounding over the ray's slope to the plane.
+                let slope = r.dir.dot(star.normal()).abs();
+                assert!(
+                    (c.t - p.t).abs() * slope <= 1e-6 * c.t,
+                    "{r:?}: t {} vs {}",
+                    c.t,
+                    p.t
+                );
+            }
+            (None, None) => {}
+            (c, p) => assert!(near_edge, "{r:?}: crossing {c:?}, pieces {p:?}"),
+        }
+    }
+    assert!(
+        (2_000..18_000).contains(&hits),
+        "{hits} hits: too few or too many to test anything"
+    );
+}
+
+/// The distance in (x, y) from `p` to the nearest edge of [`star_polygon`].
+fn star_edge_distance(p: Vec3) -> f32 {
+    let v = star_polygon().vertices().to_vec();
+    let q = p.truncate();
+    (0..v.len())
+        .map(|i| {
+            let (a, b) = (v[i].truncate(), v[(i + 1) % v.len()].truncate());
+            let s = ((q - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+            (q - (a + s * (b - a))).length()
+        })
+        .fold(f32::INFINITY, f32::min)
 }
 
 #[test]
@@ -309,8 +374,13 @@ fn polygon_validation_errors() {
 
 #[test]
 fn polygon_parallel_rays_miss() {
-    let l = l_shape();
-    assert!(trace(&l, ray([0.5, 0.5, 0.0], [1.0, 0.0, 0.0])).is_none());
+    for test in POLYGON_TESTS {
+        let l = l_shape(test);
+        assert!(
+            trace(&l, ray([0.5, 0.5, 0.0], [1.0, 0.0, 0.0])).is_none(),
+            "{test:?}"
+        );
+    }
 }
 
 // ---- NaN / inf -----------------------------------------------------------------

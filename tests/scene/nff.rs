@@ -46,7 +46,8 @@ fn every_entity_is_read() {
     let s = parse(EVERY_ENTITY).unwrap();
     let kinds = crate::kinds(&s);
     use PrimitiveKind::*;
-    assert_eq!(kinds, [Sphere, Sphere, Polygon, Triangle, Polygon, Cone]);
+    // `p 3` is the triangle it is; `pp 4` a flat polygon.
+    assert_eq!(kinds, [Sphere, Sphere, Triangle, Triangle, Polygon, Cone]);
     // Materials: the default one for the first sphere, then one per `f`.
     assert_eq!(s.material_of, [0, 1, 1, 2, 2, 2]);
     assert_eq!(s.materials[0], Material::default());

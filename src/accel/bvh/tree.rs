@@ -80,11 +80,12 @@ pub struct Bvh {
 /// Figures about a built BVH, for reports.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct BvhInfo {
-    /// Primitives in the tree.
+    /// Items in the tree: the primitives, each polygon tested as watertight
+    /// pieces counted as its pieces.
     pub primitives: usize,
     /// Primitives outside the tree, tested by every ray (planes).
     pub unbounded: usize,
-    /// Degenerate triangles left out (no ray can hit them).
+    /// Degenerate triangles and polygons left out (no ray can hit them).
     pub skipped: usize,
     /// Nodes (inner and leaves).
     pub nodes: usize,

@@ -11,7 +11,7 @@ use serde::Deserialize;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue, ValueDeserializer};
 
-use crate::geometry::{Cone, Plane, Polygon, Primitive, Sphere, Triangle};
+use crate::geometry::{Cone, Plane, Primitive, Sphere, Triangle};
 use crate::scene::error::{SceneError, geometry_message};
 use crate::scene::instance::Mesh;
 use crate::scene::model::{CameraSpec, Light, Material, Scene};
@@ -324,7 +324,7 @@ impl Reader<'_> {
             "polygon" => {
                 let p: PolygonToml = self.deserialize(fields)?;
                 let vertices: Vec<Vec3> = p.vertices.iter().map(|v| bake_point(v.0, transform)).collect();
-                Polygon::new(&vertices).map(Primitive::Polygon)
+                Primitive::polygon(&vertices)
             }
             "cone" => {
                 let c: ConeToml = self.deserialize(fields)?;
