@@ -217,11 +217,60 @@ impl<F: SimdFloat> WideNodeOf<F> {
 /// `F::LANES` children: node 0 holds the root's children (or the root itself
 /// when it is a leaf; nothing for an `empty` tree).
 pub fn collapse<F: SimdFloat>(pairs: &[NodePair], empty: bool) -> Vec<WideNodeOf<F>> {
-    let mut nodes = vec![WideNodeOf::empty()];
+    // Each wide node but the root takes at least one binary inner node and
+    // opens up to `LANES − 2` more, so most trees need about this many.
+    let mut nodes = Vec::with_capacity(1 + pairs.len() / (F::LANES - 1).max(1));
+    nodes.push(WideNodeOf::empty());
     if !empty {
         fill(pairs, ROOT, 0, 0, &mut nodes);
     }
     nodes
+}
+
+/// The children a wide node gathers while it opens binary nodes: ids and,
+/// for inner ones, surface areas (computed once each; −∞ for a leaf, which
+/// is never opened). At most 16 (the widest tree's lanes).
+struct Gathered {
+    ids: [NodeId; MAX_WIDTH],
+    areas: [f32; MAX_WIDTH],
+    len: usize,
+}
+
+/// The most children a wide node has.
+const MAX_WIDTH: usize = RayTreeLanes::LANES;
+
+impl Gathered {
+    fn push(&mut self, pairs: &[NodePair], id: NodeId) {
+        let n = node_in(pairs, id);
+        self.ids[self.len] = id;
+        self.areas[self.len] = if n.is_leaf() {
+            f32::NEG_INFINITY
+        } else {
+            Aabb::new(n.min, n.max).surface_area()
+        };
+        self.len += 1;
+    }
+
+    /// The inner child of largest area, if any (the last of equals).
+    fn widest_inner(&self) -> Option<usize> {
+        let mut best: Option<usize> = None;
+        for i in 0..self.len {
+            let inner = self.areas[i] != f32::NEG_INFINITY;
+            if inner && best.is_none_or(|b| self.areas[i].total_cmp(&self.areas[b]).is_ge()) {
+                best = Some(i);
+            }
+        }
+        best
+    }
+
+    /// Remove child `i`, keeping the others' order.
+    fn remove(&mut self, i: usize) -> NodeId {
+        let id = self.ids[i];
+        self.ids.copy_within(i + 1..self.len, i);
+        self.areas.copy_within(i + 1..self.len, i);
+        self.len -= 1;
+        id
+    }
 }
 
 /// Fill wide node `at` with the binary subtree under `id`, depth first;
@@ -233,35 +282,36 @@ fn fill<F: SimdFloat>(
     pending: usize,
     out: &mut Vec<WideNodeOf<F>>,
 ) {
-    let area = |c: NodeId| {
-        let n = node_in(pairs, c);
-        Aabb::new(n.min, n.max).surface_area()
-    };
     // Open the largest inner child until the node is full (or only leaves).
     let width = if pending + F::LANES - 1 <= pending_budget(F::LANES) {
         F::LANES
     } else {
         2
     };
-    let mut children: Vec<NodeId> = if node_in(pairs, id).is_leaf() {
-        vec![id]
-    } else {
-        node_in(pairs, id).children().to_vec()
+    let mut children = Gathered {
+        ids: [0; MAX_WIDTH],
+        areas: [0.0; MAX_WIDTH],
+        len: 0,
     };
-    while children.len() < width {
-        let widest = children
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| !node_in(pairs, **c).is_leaf())
-            .max_by(|a, b| area(*a.1).total_cmp(&area(*b.1)))
-            .map(|(i, _)| i);
-        let Some(i) = widest else { break };
+    if node_in(pairs, id).is_leaf() {
+        children.push(pairs, id);
+    } else {
+        for c in node_in(pairs, id).children() {
+            children.push(pairs, c);
+        }
+    }
+    while children.len < width {
+        let Some(i) = children.widest_inner() else { break };
         let opened = children.remove(i);
-        children.extend(node_in(pairs, opened).children());
+        for c in node_in(pairs, opened).children() {
+            children.push(pairs, c);
+        }
     }
     let mut node = WideNodeOf::<F>::empty();
-    let mut inner = Vec::new();
-    for (i, &c) in children.iter().enumerate() {
+    // The inner children, as (binary node, wide node) to fill after this one.
+    let mut inner = [(0, 0); MAX_WIDTH];
+    let mut inner_count = 0;
+    for (i, &c) in children.ids[..children.len].iter().enumerate() {
         let n = node_in(pairs, c);
         for axis in 0..3 {
             node.bounds[axis][0].as_mut()[i] = n.min[axis];
@@ -271,15 +321,16 @@ fn fill<F: SimdFloat>(
             (n.first, n.meta)
         } else {
             out.push(WideNodeOf::empty());
-            inner.push((c, out.len() - 1));
+            inner[inner_count] = (c, out.len() - 1);
+            inner_count += 1;
             (out.len() as u32 - 1, 0)
         };
         node.index.as_mut()[i] = index;
         node.count.as_mut()[i] = count;
     }
     out[at] = node;
-    for (c, slot) in inner {
-        fill(pairs, c, slot, pending + children.len() - 1, out);
+    for &(c, slot) in &inner[..inner_count] {
+        fill(pairs, c, slot, pending + children.len - 1, out);
     }
 }
 
