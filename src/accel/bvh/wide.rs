@@ -217,8 +217,8 @@ impl<F: SimdFloat> WideNodeOf<F> {
 /// `F::LANES` children: node 0 holds the root's children (or the root itself
 /// when it is a leaf; nothing for an `empty` tree).
 pub fn collapse<F: SimdFloat>(pairs: &[NodePair], empty: bool) -> Vec<WideNodeOf<F>> {
-    // Each wide node but the root takes at least one binary inner node and
-    // opens up to `LANES − 2` more, so most trees need about this many.
+    // A full wide node stands for `LANES − 1` binary inner nodes (a pair
+    // each), so most trees need about this many.
     let mut nodes = Vec::with_capacity(1 + pairs.len() / (F::LANES - 1).max(1));
     nodes.push(WideNodeOf::empty());
     if !empty {
@@ -226,6 +226,9 @@ pub fn collapse<F: SimdFloat>(pairs: &[NodePair], empty: bool) -> Vec<WideNodeOf
     }
     nodes
 }
+
+/// The most children a wide node has.
+const MAX_WIDTH: usize = RayTreeLanes::LANES;
 
 /// The children a wide node gathers while it opens binary nodes: ids and,
 /// for inner ones, surface areas (computed once each; −∞ for a leaf, which
@@ -235,9 +238,6 @@ struct Gathered {
     areas: [f32; MAX_WIDTH],
     len: usize,
 }
-
-/// The most children a wide node has.
-const MAX_WIDTH: usize = RayTreeLanes::LANES;
 
 impl Gathered {
     fn push(&mut self, pairs: &[NodePair], id: NodeId) {
@@ -282,7 +282,9 @@ fn fill<F: SimdFloat>(
     pending: usize,
     out: &mut Vec<WideNodeOf<F>>,
 ) {
-    // Open the largest inner child until the node is full (or only leaves).
+    // Open the largest inner child until the node is full (or only leaves),
+    // starting from `id` itself: a leaf stays the node's one child, an inner
+    // node is opened first.
     let width = if pending + F::LANES - 1 <= pending_budget(F::LANES) {
         F::LANES
     } else {
@@ -293,13 +295,7 @@ fn fill<F: SimdFloat>(
         areas: [0.0; MAX_WIDTH],
         len: 0,
     };
-    if node_in(pairs, id).is_leaf() {
-        children.push(pairs, id);
-    } else {
-        for c in node_in(pairs, id).children() {
-            children.push(pairs, c);
-        }
-    }
+    children.push(pairs, id);
     while children.len < width {
         let Some(i) = children.widest_inner() else { break };
         let opened = children.remove(i);
