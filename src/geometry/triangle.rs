@@ -214,11 +214,15 @@ impl Triangle {
     /// ordinary triangles; a needle 4·10¹⁸ long (a fuzzer's) is hit up to 10¹²
     /// beyond its end, where a BVH must not cull it.
     pub fn bounds(&self) -> Option<Aabb> {
-        (!self.is_degenerate()).then(|| {
-            let tight = Aabb::from_points(self.vertices);
-            let margin = 4.0 * EDGE_EPSILON * tight.extent();
-            Aabb::new(tight.min - margin, tight.max + margin)
-        })
+        (!self.is_degenerate()).then(|| Self::bounds_of(self.vertices))
+    }
+
+    /// The box [`Triangle::bounds`] gives a triangle of `vertices` that is
+    /// not degenerate: theirs, widened by the edge margin.
+    pub fn bounds_of(vertices: [Vec3; 3]) -> Aabb {
+        let tight = Aabb::from_points(vertices);
+        let margin = 4.0 * EDGE_EPSILON * tight.extent();
+        Aabb::new(tight.min - margin, tight.max + margin)
     }
 
     /// True for a zero-area triangle.

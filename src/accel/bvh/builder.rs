@@ -2,16 +2,17 @@
 //! tree over them ([`build_sah`]), the leaves' primitive
 //! store, and the two wide trees collapsed from the binary one.
 
+use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::accel::bvh::build_sah::{self, BuildOptions};
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::leaf_store::LeafStore;
+use crate::accel::bvh::leaf_store::{LeafStore, TreeItem};
 use crate::accel::bvh::node::{Node, NodePair};
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::wide;
 use crate::bounds::Aabb;
-use crate::geometry::{Primitive, Triangle, TriangleTest};
+use crate::geometry::{Primitive, Triangle};
 use crate::simd::Isa;
 
 impl Bvh {
@@ -28,18 +29,20 @@ impl Bvh {
         // boxes, and triangle blocks in the leaves), each naming it.
         let pieces = watertight_pieces(prims);
         let item = |i: usize| match i.checked_sub(prims.len()) {
-            None => (&prims[i], i as u32),
-            Some(piece) => (&pieces[piece].0, pieces[piece].1),
+            None => (TreeItem::Primitive(&prims[i]), i as u32),
+            Some(piece) => (TreeItem::Piece(pieces[piece].0), pieces[piece].1),
         };
-        let is_split = |p: &Primitive| matches!(p, Primitive::Polygon(p) if p.watertight_pieces().is_some());
         // The items' boxes, in parallel, the empty box for one the tree cannot
         // hold (not finite, or empty) or that its pieces stand in for.
         let usable = |b: Aabb| b.min.is_finite() && b.max.is_finite() && !b.is_empty();
         let mut boxes: Vec<Aabb> = (0..prims.len() + pieces.len())
             .into_par_iter()
             .map(|i| {
-                let (p, _) = item(i);
-                let bounds = if is_split(p) { None } else { p.bounds() };
+                let bounds = match item(i).0 {
+                    TreeItem::Primitive(p) if pieces_of(p).is_some() => None,
+                    TreeItem::Primitive(p) => p.bounds(),
+                    TreeItem::Piece(&vertices) => Some(Triangle::bounds_of(vertices)),
+                };
                 bounds.filter(|b| usable(*b)).unwrap_or(Aabb::EMPTY)
             })
             .collect();
@@ -51,19 +54,21 @@ impl Bvh {
             let mut ids = Vec::with_capacity(boxes.len());
             let mut kept = 0;
             for i in 0..boxes.len() {
-                let (b, (p, _)) = (boxes[i], item(i));
+                let (b, (item, _)) = (boxes[i], item(i));
                 if !b.is_empty() {
                     boxes[kept] = b;
                     kept += 1;
                     ids.push(i as u32);
-                } else if matches!(p, Primitive::Triangle(t) if t.is_degenerate()) {
-                    skipped += 1;
-                } else if is_split(p) {
-                    // Its pieces stand in for it; one of zero area has none.
-                    skipped +=
-                        usize::from(matches!(p, Primitive::Polygon(p) if p.watertight_pieces() == Some(&[])));
-                } else {
-                    unbounded_ids.push(i as u32);
+                    continue;
+                }
+                match item {
+                    TreeItem::Primitive(Primitive::Triangle(t)) if t.is_degenerate() => skipped += 1,
+                    TreeItem::Primitive(p) => match pieces_of(p) {
+                        // Its pieces stand in for it; one of zero area has none.
+                        Some(pieces) => skipped += usize::from(pieces.is_empty()),
+                        None => unbounded_ids.push(i as u32),
+                    },
+                    TreeItem::Piece(_) => unbounded_ids.push(i as u32),
                 }
             }
             boxes.truncate(kept);
@@ -129,20 +134,28 @@ impl Bvh {
     }
 }
 
-/// The watertight pieces of the polygons in `prims` tested so
-/// ([`Polygon::watertight_pieces`](crate::geometry::Polygon::watertight_pieces)),
-/// as watertight triangles, each with its polygon's index.
-fn watertight_pieces(prims: &[Primitive]) -> Vec<(Primitive, u32)> {
-    let mut pieces = Vec::new();
-    for (i, p) in prims.iter().enumerate() {
-        if let Primitive::Polygon(polygon) = p
-            && let Some(triangles) = polygon.watertight_pieces()
-        {
-            pieces.extend(triangles.iter().map(|&[a, b, c]| {
-                let piece = Triangle::new(a, b, c).with_test(TriangleTest::Watertight);
-                (Primitive::Triangle(piece), i as u32)
-            }));
-        }
+/// The watertight pieces of the polygons in `prims` tested so, each with its
+/// polygon's index.
+fn watertight_pieces(prims: &[Primitive]) -> Vec<(&[Vec3; 3], u32)> {
+    let split = || {
+        prims
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| Some((pieces_of(p)?, i as u32)))
+    };
+    let mut pieces = Vec::with_capacity(split().map(|(pieces, _)| pieces.len()).sum());
+    for (polygon, i) in split() {
+        pieces.extend(polygon.iter().map(|piece| (piece, i)));
     }
     pieces
+}
+
+/// The pieces `p` is tested as, if it is a polygon tested so
+/// ([`Polygon::watertight_pieces`](crate::geometry::Polygon::watertight_pieces)):
+/// the tree holds these in its place.
+fn pieces_of(p: &Primitive) -> Option<&[[Vec3; 3]]> {
+    match p {
+        Primitive::Polygon(polygon) => polygon.watertight_pieces(),
+        _ => None,
+    }
 }

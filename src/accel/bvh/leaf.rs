@@ -260,6 +260,14 @@ impl LeafPrim {
         Self { shape, id }
     }
 
+    /// The leaf record of watertight triangle `t`, input index `id`.
+    pub fn watertight(t: WatertightTriangle, id: u32) -> Self {
+        Self {
+            shape: LeafShape::Watertight(t),
+            id,
+        }
+    }
+
     /// Index in the input slice.
     pub fn id(&self) -> u32 {
         self.id

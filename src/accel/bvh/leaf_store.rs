@@ -6,6 +6,9 @@
 //! to a callback). The primitives without a box (planes) are one more leaf of
 //! records, which every ray visits before the tree.
 
+use std::ops::Range;
+
+use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::accel::bvh::leaf::{
@@ -13,8 +16,6 @@ use crate::accel::bvh::leaf::{
 };
 use crate::accel::bvh::node::Node;
 use crate::accel::stats::Counter;
-use std::ops::Range;
-
 use crate::geometry::triangle::{MAX_BLOCK_ID, ProjectedTriangle, TriangleTest};
 use crate::geometry::triangle_watertight::WatertightTriangle;
 use crate::geometry::{BlockRay, Primitive, Sphere};
@@ -37,6 +38,41 @@ pub struct LeafStore {
     others: Vec<Primitive>,
 }
 
+/// One item of a BVH's tree: a primitive, or a watertight piece of a
+/// polygon, a triangle standing in for part of its polygon (whose index its
+/// hits report). A piece is stored in the leaves as the watertight triangle
+/// it is, with no [`Primitive`] made of it.
+#[derive(Clone, Copy, Debug)]
+pub enum TreeItem<'p> {
+    /// A primitive, stored as itself.
+    Primitive(&'p Primitive),
+    /// A polygon's piece (not degenerate: the polygon drops those).
+    Piece(&'p [Vec3; 3]),
+}
+
+impl TreeItem<'_> {
+    /// The test a triangle's kernels run (a piece's is the watertight
+    /// test); None for any other shape.
+    #[inline]
+    fn triangle_test(self) -> Option<TriangleTest> {
+        match self {
+            TreeItem::Primitive(Primitive::Triangle(t)) => Some(t.test()),
+            TreeItem::Piece(_) => Some(TriangleTest::Watertight),
+            TreeItem::Primitive(_) => None,
+        }
+    }
+
+    /// The watertight triangle of a triangle or piece.
+    #[inline]
+    fn watertight(self) -> Option<WatertightTriangle> {
+        match self {
+            TreeItem::Primitive(Primitive::Triangle(t)) => Some(t.watertight()),
+            TreeItem::Piece(&[a, b, c]) => Some(WatertightTriangle::new(a, b, c)),
+            TreeItem::Primitive(_) => None,
+        }
+    }
+}
+
 /// What a leaf holds, which decides how it is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Holds {
@@ -51,15 +87,18 @@ enum Holds {
 impl Holds {
     /// What the leaf of `prims` (not empty, each with its input index) holds:
     /// triangles go into blocks only if their indices fit one ([`MAX_BLOCK_ID`]).
-    fn of<'a>(mut prims: impl Iterator<Item = (&'a Primitive, u32)>) -> Self {
+    fn of<'a>(mut prims: impl Iterator<Item = (TreeItem<'a>, u32)>) -> Self {
         let first = match prims.next() {
-            Some((Primitive::Triangle(t), id)) if id <= MAX_BLOCK_ID => Holds::Triangles(t.test()),
-            Some((Primitive::Sphere(_), _)) => Holds::Spheres,
+            Some((TreeItem::Primitive(Primitive::Sphere(_)), _)) => Holds::Spheres,
+            Some((item, id)) if id <= MAX_BLOCK_ID => match item.triangle_test() {
+                Some(test) => Holds::Triangles(test),
+                None => return Holds::Mixed,
+            },
             _ => return Holds::Mixed,
         };
-        let same = |(p, id): (&Primitive, u32)| match (first, p) {
-            (Holds::Triangles(test), Primitive::Triangle(t)) => t.test() == test && id <= MAX_BLOCK_ID,
-            (Holds::Spheres, Primitive::Sphere(_)) => true,
+        let same = |(item, id): (TreeItem<'_>, u32)| match (first, item) {
+            (Holds::Triangles(test), item) => item.triangle_test() == Some(test) && id <= MAX_BLOCK_ID,
+            (Holds::Spheres, TreeItem::Primitive(Primitive::Sphere(_))) => true,
             _ => false,
         };
         if prims.all(same) { first } else { Holds::Mixed }
@@ -70,11 +109,11 @@ impl LeafStore {
     /// Store the primitives of the leaf nodes `leaves` (sorted by `first`),
     /// whose ranges index `order`, and point each node at its store: blocks if
     /// a leaf holds only triangles or only spheres, else records. `input(k)` is
-    /// the primitive at `order` entry `k` and its input index.
+    /// the item at `order` entry `k` and its input index.
     pub fn build<'p>(
         leaves: &mut [&mut Node],
         order: &[u32],
-        input: impl Fn(u32) -> (&'p Primitive, u32) + Sync,
+        input: impl Fn(u32) -> (TreeItem<'p>, u32) + Sync,
     ) -> Self {
         let range_of = |node: &Node| match node.contents() {
             LeafRef::Prims(range) => range,
@@ -128,26 +167,27 @@ impl LeafStore {
             (node.first, node.meta) = leaf.encode();
         }
         // Fill the blocks in parallel, each from its run of leaf primitives.
-        store.triangle_blocks = fill_blocks(&triangle_runs, order, &input, |p| match p {
-            Primitive::Triangle(t) => Some(*t.projected()),
+        store.triangle_blocks = fill_blocks(&triangle_runs, order, &input, |item| match item {
+            TreeItem::Primitive(Primitive::Triangle(t)) => Some(*t.projected()),
             _ => None,
         });
-        store.watertight_blocks = fill_blocks(&watertight_runs, order, &input, |p| match p {
-            Primitive::Triangle(t) => Some(t.watertight()),
-            _ => None,
-        });
-        store.sphere_blocks = fill_blocks(&sphere_runs, order, &input, |p| match p {
-            Primitive::Sphere(s) => Some(*s),
+        store.watertight_blocks = fill_blocks(&watertight_runs, order, &input, TreeItem::watertight);
+        store.sphere_blocks = fill_blocks(&sphere_runs, order, &input, |item| match item {
+            TreeItem::Primitive(Primitive::Sphere(s)) => Some(*s),
             _ => None,
         });
         store
     }
 
-    /// Append a leaf of records for `prims` (primitive, input index).
-    pub fn push_records<'p>(&mut self, prims: impl Iterator<Item = (&'p Primitive, u32)>) -> LeafRef {
+    /// Append a leaf of records for `items` (item, input index).
+    pub fn push_records<'p>(&mut self, items: impl Iterator<Item = (TreeItem<'p>, u32)>) -> LeafRef {
         let at = self.records.len();
-        for (prim, id) in prims {
-            self.records.push(LeafPrim::new(prim, id, &mut self.others));
+        for (item, id) in items {
+            let record = match item {
+                TreeItem::Primitive(prim) => LeafPrim::new(prim, id, &mut self.others),
+                TreeItem::Piece(&[a, b, c]) => LeafPrim::watertight(WatertightTriangle::new(a, b, c), id),
+            };
+            self.records.push(record);
         }
         LeafRef::Prims(at..self.records.len())
     }
@@ -274,8 +314,8 @@ impl FromLanes<Sphere> for SphereBlock {
 fn fill_blocks<'p, T: Copy + Send, B: FromLanes<T> + Send>(
     runs: &[Range<usize>],
     order: &[u32],
-    input: &(impl Fn(u32) -> (&'p Primitive, u32) + Sync),
-    shape: impl Fn(&Primitive) -> Option<T> + Sync,
+    input: &(impl Fn(u32) -> (TreeItem<'p>, u32) + Sync),
+    shape: impl Fn(TreeItem<'p>) -> Option<T> + Sync,
 ) -> Vec<B> {
     runs.par_iter()
         .map(|run| {
@@ -366,7 +406,9 @@ mod tests {
     fn triangle_indices_past_a_block_lane_go_to_records() {
         let tri = Primitive::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
         let ball = Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0));
-        let holds = |prims: &[(&Primitive, u32)]| Holds::of(prims.iter().copied());
+        let holds = |prims: &[(&Primitive, u32)]| {
+            Holds::of(prims.iter().map(|&(p, id)| (TreeItem::Primitive(p), id)))
+        };
         let triangles = Holds::Triangles(TriangleTest::default());
         assert_eq!(holds(&[(&tri, 0), (&tri, MAX_BLOCK_ID)]), triangles);
         assert_eq!(holds(&[(&tri, MAX_BLOCK_ID + 1)]), Holds::Mixed);
