@@ -236,8 +236,15 @@ impl PrimRef {
 
     #[inline(always)]
     fn centroid(&self) -> Vec3A {
-        let b = self.bounds();
-        0.5 * b.min + 0.5 * b.max
+        Vec3A::from_vec4(self.centroid_lanes())
+    }
+
+    /// The centroid in the first three lanes of all four (the fourth is
+    /// half the index's float, normal: see [`PrimRef::bounds`]); the binning
+    /// reads it so, with no lane to clear.
+    #[inline(always)]
+    fn centroid_lanes(&self) -> Vec4 {
+        0.5 * self.lower + 0.5 * self.upper
     }
 }
 
@@ -551,8 +558,10 @@ impl Context {
         for axis_bins in bins.iter_mut() {
             axis_bins[..n_bins].fill(Bin::EMPTY);
         }
+        // A fourth lane of 0 origin and 0 scale puts every centroid's fourth lane in bin 0.
+        let (origin, scale_lanes) = (centroids.min.extend(0.0), scale.extend(0.0));
         for r in refs.iter() {
-            let k = bins_of(n_bins, r.centroid(), centroids.min, scale);
+            let k = bins_of(n_bins, r.centroid_lanes(), origin, scale_lanes);
             for axis in 0..3 {
                 let bin = &mut bins[axis][k[axis]];
                 bin.bounds = bin.bounds.union(&r.bounds());
@@ -664,15 +673,17 @@ fn bin_scales(bins: usize, centroids: &Box3) -> Vec3A {
     )
 }
 
-/// The bin of every axis for centroid `c`.
+/// The bin of every axis for centroid `c` (lanes x, y, z; the fourth ignored),
+/// with the node's centroid box starting at `min` and bins per unit `scale`.
 #[inline(always)]
-fn bins_of(bins: usize, c: Vec3A, min: Vec3A, scale: Vec3A) -> [usize; 3] {
+fn bins_of(bins: usize, c: Vec4, min: Vec4, scale: Vec4) -> [usize; 3] {
     // Clamp in floating point (the top boundary falls in the last bin), then
-    // truncate the three lanes in one instruction (cvttps2dq): they are in
-    // range, so the saturating `f32 as i32` casts' compare and select per lane
-    // would buy nothing.
-    let k = ((c - min) * scale).clamp(Vec3A::ZERO, Vec3A::splat((bins - 1) as f32));
-    let [x, y, z, _] = f32x4::new(k.extend(0.0).to_array()).fast_trunc_int().to_array();
+    // truncate the lanes in one instruction (cvttps2dq): they are in range,
+    // so the saturating `f32 as i32` casts' compare and select per lane would
+    // buy nothing. Four lanes, as the centroid comes: a `Vec3A` would have its
+    // fourth lane cleared first, three instructions a primitive.
+    let k = ((c - min) * scale).clamp(Vec4::ZERO, Vec4::splat((bins - 1) as f32));
+    let [x, y, z, _] = f32x4::new(k.to_array()).fast_trunc_int().to_array();
     // The mask changes no index (all are below `bins` ≤ MAX_BINS) and spares
     // the bins' bounds checks.
     [x, y, z].map(|k| k as usize & (MAX_BINS - 1))
