@@ -558,7 +558,7 @@ impl Context {
         for axis_bins in bins.iter_mut() {
             axis_bins[..n_bins].fill(Bin::EMPTY);
         }
-        // A fourth lane of 0 origin and 0 scale puts every centroid's fourth lane in bin 0.
+        // The fourth lanes (origin 0, scale 0) make a bin that `bins_of` drops.
         let (origin, scale_lanes) = (centroids.min.extend(0.0), scale.extend(0.0));
         for r in refs.iter() {
             let k = bins_of(n_bins, r.centroid_lanes(), origin, scale_lanes);
