@@ -188,7 +188,7 @@ impl<F: SimdFloat> WideNodeOf<F> {
 
     /// For the children of part `part` (lanes `part·N::LANES..`), the t at
     /// which `ray` crosses the plane `corner` (0: min, 1: max) of `axis`,
-    /// before scaling by `1/d`.
+    /// before scaling by `−1/d`: the origin less the plane (see [`SlabRay`]).
     #[inline(always)]
     fn plane<N: SimdFloat>(&self, ray: &SlabRay, axis: usize, corner: usize, part: usize) -> N {
         let mut planes = N::Array::default();
@@ -196,20 +196,21 @@ impl<F: SimdFloat> WideNodeOf<F> {
         planes
             .as_mut()
             .copy_from_slice(&self.bounds[axis][corner].as_ref()[start..start + N::LANES]);
-        N::from_array(planes) - N::splat(ray.origin[axis])
+        N::splat(ray.origin[axis]) - N::from_array(planes)
     }
 
     /// Per child of part `part`, the t at which `ray` enters the slab of `axis`.
     #[inline(always)]
     fn near<N: SimdFloat>(&self, ray: &SlabRay, axis: usize, part: usize) -> N {
         // `& 1` tells the compiler the corner is 0 or 1, so it checks no bounds.
-        self.plane::<N>(ray, axis, ray.entry_corner(axis) & 1, part) * N::splat(ray.inv_dir[axis])
+        self.plane::<N>(ray, axis, ray.entry_corner(axis) & 1, part) * N::splat(ray.neg_inv_dir[axis])
     }
 
     /// Per child of part `part`, the t at which `ray` leaves the slab of `axis` (scaled up).
     #[inline(always)]
     fn far<N: SimdFloat>(&self, ray: &SlabRay, axis: usize, part: usize) -> N {
-        self.plane::<N>(ray, axis, (ray.entry_corner(axis) ^ 1) & 1, part) * N::splat(ray.inv_dir_far[axis])
+        self.plane::<N>(ray, axis, (ray.entry_corner(axis) ^ 1) & 1, part)
+            * N::splat(ray.neg_inv_dir_far[axis])
     }
 }
 
