@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::accel::bvh::build_sah::{self, BuildOptions};
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::leaf_store::{LeafStore, TreeItem};
+use crate::accel::bvh::leaf_store::{Holds, LeafStore, TreeItem};
 use crate::accel::bvh::node::{Node, NodePair};
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::wide;
@@ -33,19 +33,24 @@ impl Bvh {
             Some(piece) => (TreeItem::Piece(pieces[piece].0), pieces[piece].1),
         };
         // The items' boxes, in parallel, the empty box for one the tree cannot
-        // hold (not finite, or empty) or that its pieces stand in for.
+        // hold (not finite, or empty) or that its pieces stand in for; and
+        // what each would hold in a leaf alone, while it is at hand.
         let usable = |b: Aabb| b.min.is_finite() && b.max.is_finite() && !b.is_empty();
-        let mut boxes: Vec<Aabb> = (0..prims.len() + pieces.len())
+        let (mut boxes, item_holds): (Vec<Aabb>, Vec<Holds>) = (0..prims.len() + pieces.len())
             .into_par_iter()
             .map(|i| {
-                let bounds = match item(i).0 {
+                let (it, id) = item(i);
+                let bounds = match it {
                     TreeItem::Primitive(p) if pieces_of(p).is_some() => None,
                     TreeItem::Primitive(p) => p.bounds(),
                     TreeItem::Piece(&vertices) => Some(Triangle::bounds_of(vertices)),
                 };
-                bounds.filter(|b| usable(*b)).unwrap_or(Aabb::EMPTY)
+                (
+                    bounds.filter(|b| usable(*b)).unwrap_or(Aabb::EMPTY),
+                    Holds::alone(it, id),
+                )
             })
-            .collect();
+            .unzip();
         // Where some cannot be held, sort the items into the tree's, the
         // unbounded and the skipped; the tree's then have ids of their own.
         // (Mostly all can: then a tree index is an input index.)
@@ -87,8 +92,13 @@ impl Bvh {
             .filter(|n| n.is_leaf() && n.meta != 0)
             .collect();
         leaves.sort_unstable_by_key(|n| n.first);
-        let input = |k: u32| item(bounded_ids.as_ref().map_or(k, |ids| ids[k as usize]) as usize);
-        let mut store = LeafStore::build(&mut leaves, &order, input);
+        let item_of = |k: u32| bounded_ids.as_ref().map_or(k, |ids| ids[k as usize]) as usize;
+        let mut store = LeafStore::build(
+            &mut leaves,
+            &order,
+            |k| item(item_of(k)),
+            |k| item_holds[item_of(k)],
+        );
         let unbounded = store.push_records(unbounded_ids.iter().map(|&i| item(i as usize)));
         let mut bvh = Self {
             pairs,

@@ -75,7 +75,7 @@ impl TreeItem<'_> {
 
 /// What a leaf holds, which decides how it is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Holds {
+pub enum Holds {
     /// Triangles only, all under one test: [`TriangleBlock`]s or [`WatertightBlock`]s.
     Triangles(TriangleTest),
     /// Spheres only: [`SphereBlock`]s.
@@ -85,23 +85,28 @@ enum Holds {
 }
 
 impl Holds {
-    /// What the leaf of `prims` (not empty, each with its input index) holds:
+    /// What a leaf of `item` alone, with input index `id`, would hold:
     /// triangles go into blocks only if their indices fit one ([`MAX_BLOCK_ID`]).
-    fn of<'a>(mut prims: impl Iterator<Item = (TreeItem<'a>, u32)>) -> Self {
-        let first = match prims.next() {
-            Some((TreeItem::Primitive(Primitive::Sphere(_)), _)) => Holds::Spheres,
-            Some((item, id)) if id <= MAX_BLOCK_ID => match item.triangle_test() {
-                Some(test) => Holds::Triangles(test),
-                None => return Holds::Mixed,
+    #[inline]
+    pub fn alone(item: TreeItem<'_>, id: u32) -> Self {
+        match item {
+            TreeItem::Primitive(Primitive::Sphere(_)) => Holds::Spheres,
+            item => match item.triangle_test() {
+                Some(test) if id <= MAX_BLOCK_ID => Holds::Triangles(test),
+                _ => Holds::Mixed,
             },
-            _ => return Holds::Mixed,
-        };
-        let same = |(item, id): (TreeItem<'_>, u32)| match (first, item) {
-            (Holds::Triangles(test), item) => item.triangle_test() == Some(test) && id <= MAX_BLOCK_ID,
-            (Holds::Spheres, TreeItem::Primitive(Primitive::Sphere(_))) => true,
-            _ => false,
-        };
-        if prims.all(same) { first } else { Holds::Mixed }
+        }
+    }
+
+    /// What a leaf (not empty) holds whose items alone would hold `each`:
+    /// what they agree on, records if they differ.
+    fn of(mut each: impl Iterator<Item = Holds>) -> Self {
+        let first = each.next().unwrap_or(Holds::Mixed);
+        if each.all(|h| h == first) {
+            first
+        } else {
+            Holds::Mixed
+        }
     }
 }
 
@@ -109,21 +114,25 @@ impl LeafStore {
     /// Store the primitives of the leaf nodes `leaves` (sorted by `first`),
     /// whose ranges index `order`, and point each node at its store: blocks if
     /// a leaf holds only triangles or only spheres, else records. `input(k)` is
-    /// the item at `order` entry `k` and its input index.
+    /// the item at `order` entry `k` and its input index, `holds(k)` what it
+    /// would hold alone ([`Holds::alone`]; read from a compact array, where
+    /// the items are scattered over memory).
     pub fn build<'p>(
         leaves: &mut [&mut Node],
         order: &[u32],
         input: impl Fn(u32) -> (TreeItem<'p>, u32) + Sync,
+        holds: impl Fn(u32) -> Holds + Sync,
     ) -> Self {
         let range_of = |node: &Node| match node.contents() {
             LeafRef::Prims(range) => range,
             _ => unreachable!("the build makes leaves of primitive ranges"),
         };
-        // What each leaf holds, in parallel: the primitives are read in leaf
-        // order, far from their input order, so this mostly waits on memory.
+        // What each leaf holds, from what its items would hold alone: a byte
+        // each, where the items themselves, read in leaf order far from their
+        // input order, would mostly wait on memory.
         let holds: Vec<Holds> = leaves
             .par_iter()
-            .map(|node| Holds::of(order[range_of(node)].iter().map(|&k| input(k))))
+            .map(|node| Holds::of(order[range_of(node)].iter().map(|&k| holds(k))))
             .collect();
         // Lay the blocks out leaf by leaf, each block a run of leaf primitives.
         let mut store = Self::default();
@@ -407,7 +416,11 @@ mod tests {
         let tri = Primitive::Triangle(Triangle::new(Vec3::ZERO, Vec3::X, Vec3::Y));
         let ball = Primitive::Sphere(Sphere::new(Vec3::ZERO, 1.0));
         let holds = |prims: &[(&Primitive, u32)]| {
-            Holds::of(prims.iter().map(|&(p, id)| (TreeItem::Primitive(p), id)))
+            Holds::of(
+                prims
+                    .iter()
+                    .map(|&(p, id)| Holds::alone(TreeItem::Primitive(p), id)),
+            )
         };
         let triangles = Holds::Triangles(TriangleTest::default());
         assert_eq!(holds(&[(&tri, 0), (&tri, MAX_BLOCK_ID)]), triangles);
