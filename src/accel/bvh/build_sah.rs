@@ -317,7 +317,7 @@ struct Split {
 /// The bins of one node's split search, kept from node to node so that each
 /// clears only the bins it uses: most nodes are small and use few of them.
 /// The sweeps price the three axes at once, lane by lane (as Embree's binner
-/// does), so what they read per bin is laid out in lanes x, y, z. 3.6 KB.
+/// does), so what they read per bin is laid out in lanes x, y, z. 4.6 KB.
 struct BinScratch {
     /// Per axis, the box of each bin's primitives.
     boxes: [[Box3; MAX_BINS]; 3],
