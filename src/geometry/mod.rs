@@ -107,6 +107,39 @@ impl<'a> BlockRay<'a> {
     }
 }
 
+/// A [`BlockRay`] made when a walk reaches its first leaf rather than when
+/// it starts: a walk that reaches none (a ray missing the root's box, or
+/// passing through an instance's box between its mesh's leaves) never makes
+/// the shear frame. 80 bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct LazyBlockRay<'a> {
+    /// The ray.
+    ray: &'a Ray,
+    /// The prepared ray, once a leaf needed it.
+    block: Option<BlockRay<'a>>,
+}
+
+impl<'a> LazyBlockRay<'a> {
+    /// `ray`, not prepared yet.
+    #[inline(always)]
+    pub fn new(ray: &'a Ray) -> Self {
+        Self { ray, block: None }
+    }
+
+    /// The ray.
+    #[inline(always)]
+    pub fn ray(&self) -> &'a Ray {
+        self.ray
+    }
+
+    /// The prepared ray, made at the first call.
+    #[inline(always)]
+    pub fn get(&mut self) -> &BlockRay<'a> {
+        let ray = self.ray;
+        self.block.get_or_insert_with(|| BlockRay::new(ray))
+    }
+}
+
 /// Block kernels: one ray against up to `F::LANES` shapes held in
 /// structure-of-arrays lanes ([`triangle::ProjectedTriangles`],
 /// [`sphere::Spheres`], what BVH leaves store), in one SIMD pass with no branch
@@ -354,4 +387,29 @@ fn nested_transform_packet<F: SimdFloat>(
     hits: &mut HitPacket<F>,
 ) {
     t.intersect_packet(rays, prim, hits);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The frame is made at the first `get`, once, and is the one
+    /// [`BlockRay::new`] makes.
+    #[test]
+    fn a_lazy_block_ray_makes_the_block_rays_frame_once() {
+        let ray = Ray::new(
+            Vec3::new(0.5, -2.0, 1.0),
+            Vec3::new(0.3, 0.9, -0.2).normalize(),
+            0.0,
+            9.0,
+        );
+        let mut lazy = LazyBlockRay::new(&ray);
+        assert!(lazy.block.is_none(), "made before a leaf asked");
+        let first = format!("{:?}", lazy.get().sheared);
+        assert_eq!(first, format!("{:?}", BlockRay::new(&ray).sheared));
+        let made = lazy.block.map(|b| b.ray as *const Ray);
+        assert_eq!(format!("{:?}", lazy.get().sheared), first);
+        assert_eq!(made, Some(&ray as *const Ray), "made for another ray");
+        assert!(std::ptr::eq(lazy.ray(), &ray));
+    }
 }

@@ -10,15 +10,15 @@ use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::trace;
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
-use crate::geometry::BlockRay;
+use crate::geometry::LazyBlockRay;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
 
 /// The any-hit query of one ray.
 pub struct AnyHit<'a> {
-    /// The ray, prepared for the leaves' kernels.
-    ray: BlockRay<'a>,
+    /// The ray, prepared for the leaves' kernels at the first leaf.
+    ray: LazyBlockRay<'a>,
     /// A scratch record (kernels need one); its t stays `t_max` until the end.
     hit: &'a mut Hit,
 }
@@ -28,7 +28,7 @@ impl<'a> AnyHit<'a> {
     #[inline(always)]
     fn new(ray: &'a Ray, hit: &'a mut Hit) -> Self {
         Self {
-            ray: BlockRay::new(ray),
+            ray: LazyBlockRay::new(ray),
             hit,
         }
     }
@@ -39,13 +39,13 @@ impl RayQuery for AnyHit<'_> {
 
     #[inline(always)]
     fn t_max(&self) -> f32 {
-        self.ray.ray.t_max
+        self.ray.ray().t_max
     }
 
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
         bvh.leaves()
-            .intersect::<N, S>(leaf, &self.ray, self.hit, true, stats)
+            .intersect::<N, S>(leaf, self.ray.get(), self.hit, true, stats)
     }
 }
 

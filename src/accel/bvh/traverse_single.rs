@@ -20,7 +20,7 @@ use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::tree::TreeWidth;
 use crate::accel::bvh::wide::{ChildRef, RayTreeLanes};
 use crate::accel::stats::Counter;
-use crate::geometry::BlockRay;
+use crate::geometry::LazyBlockRay;
 use crate::ray::{Hit, Ray};
 use crate::simd::Simd8;
 
@@ -206,8 +206,8 @@ impl Cursor {
 
 /// The nearest-hit query: every primitive met may improve the record.
 pub struct Nearest<'a> {
-    /// The ray, prepared for the leaves' kernels.
-    ray: BlockRay<'a>,
+    /// The ray, prepared for the leaves' kernels at the first leaf.
+    ray: LazyBlockRay<'a>,
     /// Its hit record.
     hit: &'a mut Hit,
 }
@@ -217,7 +217,7 @@ impl<'a> Nearest<'a> {
     #[inline(always)]
     pub fn new(ray: &'a Ray, hit: &'a mut Hit) -> Self {
         Self {
-            ray: BlockRay::new(ray),
+            ray: LazyBlockRay::new(ray),
             hit,
         }
     }
@@ -232,7 +232,7 @@ impl RayQuery for Nearest<'_> {
     #[inline(always)]
     fn leaf<N: Simd8, S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, stats: &mut S) -> bool {
         bvh.leaves()
-            .intersect::<N, S>(leaf, &self.ray, self.hit, false, stats);
+            .intersect::<N, S>(leaf, self.ray.get(), self.hit, false, stats);
         false
     }
 }
