@@ -107,6 +107,39 @@ impl<'a> BlockRay<'a> {
     }
 }
 
+/// How a query holds its ray for the leaves' block kernels: prepared when
+/// the walk starts ([`BlockRay`]) or at its first leaf ([`LazyBlockRay`]).
+pub trait LeafRay<'a>: Sized {
+    /// `ray`, held for the leaves.
+    fn hold(ray: &'a Ray) -> Self;
+
+    /// The ray.
+    fn ray(&self) -> &'a Ray;
+
+    /// The prepared ray.
+    fn get(&mut self) -> &BlockRay<'a>;
+}
+
+/// Prepared at once: for walks sure to reach a leaf (a packet's lane handed
+/// to a single-ray walk deep in the tree), where checking for the frame at
+/// every leaf would be work for nothing.
+impl<'a> LeafRay<'a> for BlockRay<'a> {
+    #[inline(always)]
+    fn hold(ray: &'a Ray) -> Self {
+        BlockRay::new(ray)
+    }
+
+    #[inline(always)]
+    fn ray(&self) -> &'a Ray {
+        self.ray
+    }
+
+    #[inline(always)]
+    fn get(&mut self) -> &BlockRay<'a> {
+        self
+    }
+}
+
 /// A [`BlockRay`] made when a walk reaches its first leaf rather than when
 /// it starts: a walk that reaches none (a ray missing the root's box, or
 /// passing through an instance's box between its mesh's leaves) never makes
@@ -119,22 +152,21 @@ pub struct LazyBlockRay<'a> {
     block: Option<BlockRay<'a>>,
 }
 
-impl<'a> LazyBlockRay<'a> {
+impl<'a> LeafRay<'a> for LazyBlockRay<'a> {
     /// `ray`, not prepared yet.
     #[inline(always)]
-    pub fn new(ray: &'a Ray) -> Self {
+    fn hold(ray: &'a Ray) -> Self {
         Self { ray, block: None }
     }
 
-    /// The ray.
     #[inline(always)]
-    pub fn ray(&self) -> &'a Ray {
+    fn ray(&self) -> &'a Ray {
         self.ray
     }
 
     /// The prepared ray, made at the first call.
     #[inline(always)]
-    pub fn get(&mut self) -> &BlockRay<'a> {
+    fn get(&mut self) -> &BlockRay<'a> {
         let ray = self.ray;
         self.block.get_or_insert_with(|| BlockRay::new(ray))
     }
@@ -403,7 +435,7 @@ mod tests {
             0.0,
             9.0,
         );
-        let mut lazy = LazyBlockRay::new(&ray);
+        let mut lazy = LazyBlockRay::hold(&ray);
         assert!(lazy.block.is_none(), "made before a leaf asked");
         let first = format!("{:?}", lazy.get().sheared);
         assert_eq!(first, format!("{:?}", BlockRay::new(&ray).sheared));

@@ -10,31 +10,32 @@ use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::trace;
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
-use crate::geometry::LazyBlockRay;
+use crate::geometry::{BlockRay, LazyBlockRay, LeafRay};
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::{Simd8, SimdFloat};
 
-/// The any-hit query of one ray.
-pub struct AnyHit<'a> {
-    /// The ray, prepared for the leaves' kernels at the first leaf.
-    ray: LazyBlockRay<'a>,
+/// The any-hit query of one ray. `R` says when the ray is prepared for the
+/// leaves' kernels (see [`Nearest`](super::traverse_single::Nearest)).
+pub struct AnyHit<'a, R = LazyBlockRay<'a>> {
+    /// The ray, held for the leaves' kernels.
+    ray: R,
     /// A scratch record (kernels need one); its t stays `t_max` until the end.
     hit: &'a mut Hit,
 }
 
-impl<'a> AnyHit<'a> {
+impl<'a, R: LeafRay<'a>> AnyHit<'a, R> {
     /// The any-hit query of `ray`, with `hit` for the kernels' scratch record.
     #[inline(always)]
     fn new(ray: &'a Ray, hit: &'a mut Hit) -> Self {
         Self {
-            ray: LazyBlockRay::new(ray),
+            ray: R::hold(ray),
             hit,
         }
     }
 }
 
-impl RayQuery for AnyHit<'_> {
+impl<'a, R: LeafRay<'a>> RayQuery for AnyHit<'a, R> {
     const NEAREST_FIRST: bool = false;
 
     #[inline(always)]
@@ -54,7 +55,7 @@ impl RayQuery for AnyHit<'_> {
 #[inline(always)]
 pub fn occluded<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
     let mut hit = Hit::none(ray);
-    trace::<N, _, S>(bvh, ray, &mut AnyHit::new(ray, &mut hit), stats)
+    trace::<N, _, S>(bvh, ray, &mut AnyHit::<LazyBlockRay>::new(ray, &mut hit), stats)
 }
 
 /// The any-hit query of a packet: occluded lanes leave the packet.
@@ -68,8 +69,9 @@ struct AnyHitPacket<F: SimdFloat> {
 }
 
 impl<F: SimdFloat> LaneQueries<F> for AnyHitPacket<F> {
+    // A lane is handed over deep in the tree, sure to reach a leaf.
     type Lane<'a>
-        = AnyHit<'a>
+        = AnyHit<'a, BlockRay<'a>>
     where
         Self: 'a;
 
@@ -84,7 +86,7 @@ impl<F: SimdFloat> LaneQueries<F> for AnyHitPacket<F> {
     }
 
     #[inline(always)]
-    fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> AnyHit<'a> {
+    fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> AnyHit<'a, BlockRay<'a>> {
         AnyHit::new(ray, hit)
     }
 

@@ -32,6 +32,7 @@ use crate::accel::bvh::traverse_hybrid::{LaneWalk, traverse_hybrid};
 use crate::accel::bvh::traverse_single::Nearest;
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
+use crate::geometry::BlockRay;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
@@ -161,8 +162,9 @@ pub struct NearestPacket<'a, F: SimdFloat> {
 }
 
 impl<F: SimdFloat> LaneQueries<F> for NearestPacket<'_, F> {
+    // A lane is handed over deep in the tree, sure to reach a leaf.
     type Lane<'a>
-        = Nearest<'a>
+        = Nearest<'a, BlockRay<'a>>
     where
         Self: 'a;
 
@@ -177,7 +179,7 @@ impl<F: SimdFloat> LaneQueries<F> for NearestPacket<'_, F> {
     }
 
     #[inline(always)]
-    fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> Nearest<'a> {
+    fn query<'a>(&'a self, ray: &'a Ray, hit: &'a mut Hit) -> Nearest<'a, BlockRay<'a>> {
         Nearest::new(ray, hit)
     }
 

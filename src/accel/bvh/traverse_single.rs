@@ -20,7 +20,7 @@ use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::tree::TreeWidth;
 use crate::accel::bvh::wide::{ChildRef, RayTreeLanes};
 use crate::accel::stats::Counter;
-use crate::geometry::LazyBlockRay;
+use crate::geometry::{LazyBlockRay, LeafRay};
 use crate::ray::{Hit, Ray};
 use crate::simd::Simd8;
 
@@ -204,26 +204,28 @@ impl Cursor {
     }
 }
 
-/// The nearest-hit query: every primitive met may improve the record.
-pub struct Nearest<'a> {
-    /// The ray, prepared for the leaves' kernels at the first leaf.
-    ray: LazyBlockRay<'a>,
+/// The nearest-hit query: every primitive met may improve the record. `R`
+/// says when the ray is prepared for the leaves' kernels: at the first leaf
+/// (a walk from the root), or at once.
+pub struct Nearest<'a, R = LazyBlockRay<'a>> {
+    /// The ray, held for the leaves' kernels.
+    ray: R,
     /// Its hit record.
     hit: &'a mut Hit,
 }
 
-impl<'a> Nearest<'a> {
+impl<'a, R: LeafRay<'a>> Nearest<'a, R> {
     /// The nearest-hit query of `ray`, improving on `hit`.
     #[inline(always)]
     pub fn new(ray: &'a Ray, hit: &'a mut Hit) -> Self {
         Self {
-            ray: LazyBlockRay::new(ray),
+            ray: R::hold(ray),
             hit,
         }
     }
 }
 
-impl RayQuery for Nearest<'_> {
+impl<'a, R: LeafRay<'a>> RayQuery for Nearest<'a, R> {
     #[inline(always)]
     fn t_max(&self) -> f32 {
         self.hit.t
@@ -260,7 +262,7 @@ pub fn trace<N: Simd8, Q: RayQuery, S: Counter>(bvh: &Bvh, ray: &Ray, query: &mu
 #[inline(always)]
 pub fn intersect_into<N: Simd8, S: Counter>(bvh: &Bvh, ray: &Ray, hit: &mut Hit, stats: &mut S) {
     *hit = Hit::none(ray);
-    trace::<N, _, S>(bvh, ray, &mut Nearest::new(ray, hit), stats);
+    trace::<N, _, S>(bvh, ray, &mut Nearest::<LazyBlockRay>::new(ray, hit), stats);
 }
 
 /// The nearest hit of `ray`, with the instruction set's 8-lane type `N`.
