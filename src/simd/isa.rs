@@ -31,7 +31,8 @@ pub enum Isa {
     /// AVX2 (with FMA, as Embree's level of the name): 8-lane registers.
     Avx2,
     /// AVX-512 (F, VL, BW, DQ, CD): 16-lane registers for 16-wide packets,
-    /// 8-lane ones with AVX-512 encodings for the rest.
+    /// 8-lane ones compared into mask registers for the rest (no 512-bit
+    /// instruction where 8 lanes are wanted).
     Avx512,
 }
 
@@ -224,7 +225,7 @@ fn portable<T: LevelTask>(task: T) -> T::Output {
 mod entry {
     use super::{Level, LevelTask};
     use crate::simd::Isa;
-    use crate::simd::x86::{Avx8, Avx8x2, Avx16, Sse4};
+    use crate::simd::x86::{Avx8, Avx8Vl, Avx8x2, Avx16, Sse4};
 
     /// Declares a level's lane types and its entry point.
     macro_rules! x86_level {
@@ -266,7 +267,7 @@ mod entry {
         avx512,
         "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt,avx512f,avx512vl,avx512bw,avx512dq,avx512cd",
         Sse4,
-        Avx8,
+        Avx8Vl,
         Avx16
     );
 }

@@ -5,7 +5,7 @@
 //! with `F` one of
 //! - the `wide` crate's `f32x4`, `f32x8`, `f32x16` ([`portable`]): whatever the
 //!   crate was compiled for; the types callers build packets with;
-//! - the x86 types of [`x86`] (`Sse4`, `Avx8`, `Avx16`): SSE4.2, AVX2 and
+//! - the x86 types of [`x86`] (`Sse4`, `Avx8`, `Avx8Vl`, `Avx16`): SSE4.2, AVX2 and
 //!   AVX-512 instructions, used only inside functions compiled for them and
 //!   entered after the CPU was checked ([`Isa`], chosen at run time).
 //!

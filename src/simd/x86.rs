@@ -1,7 +1,8 @@
 //! [`SimdFloat`] over x86 registers, with their u32 twins: [`Sse4`] and
 //! [`Sse8`] (one and two SSE4.2 registers: the AVX levels' 4-lane type and
-//! its 8-lane view), [`Avx8`] and [`Avx8x2`] (one and two AVX2 registers) and
-//! [`Avx16`] (one AVX-512 register).
+//! its 8-lane view), [`Avx8`] and [`Avx8x2`] (one and two AVX2 registers),
+//! [`Avx8Vl`] (one AVX2 register, compared through AVX-512 mask registers)
+//! and [`Avx16`] (one AVX-512 register).
 //!
 //! Every operation is an `#[inline(always)]` wrapper round one intrinsic (or a
 //! few), so code generic over [`SimdFloat`] becomes straight vector code once
@@ -27,6 +28,7 @@ use crate::simd::{SimdFloat, SimdU32};
 /// (or the helper functions below that combine a few).
 macro_rules! x86_lanes {
     (
+        $(#[doc = $doc:literal])*
         $f:ident($fr:ty), $u:ident($ur:ty), $n:literal, lanes8: $lanes8:ty,
         f32: { splat: $splat:path, load: $load:path, store: $store:path,
                add: $add:path, sub: $sub:path, mul: $mul:path, div: $div:path,
@@ -39,6 +41,7 @@ macro_rules! x86_lanes {
                lt: $ult:path, blend: $ublend:path, from_bits: $from_bits:path }
     ) => {
         #[doc = concat!("`", stringify!($n), "` f32 lanes in one `", stringify!($fr), "`.")]
+        $(#[doc = $doc])*
         #[derive(Clone, Copy)]
         #[repr(transparent)]
         pub struct $f($fr);
@@ -627,7 +630,7 @@ unsafe fn avx512_store_epi32(p: *mut __m512i, a: __m512i) {
 }
 
 x86_lanes!(
-    Avx16(__m512), AvxU16(__m512i), 16, lanes8: Avx8,
+    Avx16(__m512), AvxU16(__m512i), 16, lanes8: Avx8Vl,
     f32: { splat: _mm512_set1_ps, load: _mm512_loadu_ps, store: _mm512_storeu_ps,
            add: _mm512_add_ps, sub: _mm512_sub_ps, mul: _mm512_mul_ps, div: _mm512_div_ps,
            and: _mm512_and_ps, or: _mm512_or_ps, xor: _mm512_xor_ps, andnot: _mm512_andnot_ps,
@@ -637,4 +640,68 @@ x86_lanes!(
            to_int: _mm512_castps_si512, from_int: _mm512_castsi512_ps },
     u32: { splat: _mm512_set1_epi32, load: avx512_load_epi32, store: avx512_store_epi32,
            lt: avx512_lt_epu32, blend: avx512_blend_epi32, from_bits: avx512_bits_to_lanes }
+);
+
+// ---- AVX-512VL: 8 lanes per register, compares through mask registers ----
+
+/// Compares with `wide`'s predicates into a mask register, widened to
+/// all-ones lanes. A bit mask taken of one ([`SimdFloat::bitmask`]) is then
+/// the compare's own mask register: two 8-lane halves' masks join in mask or
+/// general registers, where AVX2's `movemask` of two halves was fused by LLVM
+/// into one 512-bit instruction (see [`Avx8Vl`]).
+macro_rules! avx512vl_compares {
+    ($($name:ident: $predicate:ident),*) => {$(
+        #[inline(always)]
+        unsafe fn $name(a: __m256, b: __m256) -> __m256 {
+            // SAFETY: the caller runs with AVX-512 F, VL and DQ.
+            unsafe { _mm256_castsi256_ps(_mm256_movm_epi32(_mm256_cmp_ps_mask::<$predicate>(a, b))) }
+        }
+    )*};
+}
+
+avx512vl_compares!(
+    avx512vl_lt: _CMP_LT_OQ, avx512vl_le: _CMP_LE_OQ, avx512vl_gt: _CMP_GT_OQ,
+    avx512vl_ge: _CMP_GE_OQ, avx512vl_eq: _CMP_EQ_OQ, avx512vl_ne: _CMP_NEQ_UQ,
+    avx512vl_unordered: _CMP_UNORD_Q
+);
+
+/// The bit mask of a lane mask (its lanes' sign bits), in a mask register.
+#[inline(always)]
+unsafe fn avx512vl_movemask(a: __m256) -> u32 {
+    // SAFETY: the caller runs with AVX-512 VL and DQ.
+    unsafe { u32::from(_mm256_movepi32_mask(_mm256_castps_si256(a))) }
+}
+
+/// Unsigned `a < b` on 32-bit lanes, as all-ones lanes.
+#[inline(always)]
+unsafe fn avx512vl_lt_epu32(a: __m256i, b: __m256i) -> __m256i {
+    // SAFETY: the caller runs with AVX-512 F, VL and DQ.
+    unsafe { _mm256_movm_epi32(_mm256_cmplt_epu32_mask(a, b)) }
+}
+
+/// Lane `i` all-ones where bit `i` of `bits` is set (lanes 0..8).
+#[inline(always)]
+unsafe fn avx512vl_bits_to_lanes(bits: u32) -> __m256i {
+    // SAFETY: the caller runs with AVX-512 VL and DQ.
+    unsafe { _mm256_movm_epi32(bits as u8) }
+}
+
+x86_lanes!(
+    /// The AVX-512 level's 8-lane type: AVX2's arithmetic, AVX-512VL's
+    /// compares into mask registers. With [`Avx8`] the 16-wide node test of
+    /// single rays, in two halves, ran one 512-bit instruction a visit
+    /// (LLVM's fusion of the halves' `movemask`s), which on an Intel Xeon
+    /// slowed single rays by about a fifth (`docs/measurements.md`,
+    /// "Instruction sets at run time").
+    Avx8Vl(__m256), AvxU8Vl(__m256i), 8, lanes8: Avx8Vl,
+    f32: { splat: _mm256_set1_ps, load: _mm256_loadu_ps, store: _mm256_storeu_ps,
+           add: _mm256_add_ps, sub: _mm256_sub_ps, mul: _mm256_mul_ps, div: _mm256_div_ps,
+           and: _mm256_and_ps, or: _mm256_or_ps, xor: _mm256_xor_ps, andnot: _mm256_andnot_ps,
+           lt: avx512vl_lt, le: avx512vl_le, gt: avx512vl_gt, ge: avx512vl_ge,
+           eq: avx512vl_eq, ne: avx512vl_ne, unordered: avx512vl_unordered,
+           blend: _mm256_blendv_ps, movemask: avx512vl_movemask,
+           sqrt: _mm256_sqrt_ps, min: _mm256_min_ps, max: _mm256_max_ps,
+           to_int: _mm256_castps_si256, from_int: _mm256_castsi256_ps },
+    u32: { splat: _mm256_set1_epi32, load: _mm256_loadu_si256, store: _mm256_storeu_si256,
+           lt: avx512vl_lt_epu32, blend: _mm256_blendv_epi8, from_bits: avx512vl_bits_to_lanes }
 );

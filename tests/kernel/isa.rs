@@ -7,7 +7,7 @@
 #![cfg(target_arch = "x86_64")]
 
 use raypack::rng::Rng;
-use raypack::simd::x86::{Avx8, Avx8x2, Avx16, Sse4, Sse8};
+use raypack::simd::x86::{Avx8, Avx8Vl, Avx8x2, Avx16, Sse4, Sse8};
 use raypack::simd::{Isa, SimdFloat, SimdU32};
 use wide::{f32x4, f32x8, f32x16};
 
@@ -111,6 +111,7 @@ fn x86_lane_types_compute_what_wide_computes() {
         skipped.push("avx2");
     }
     if Isa::Avx512.is_available() {
+        agrees::<f32x8, Avx8Vl>();
         agrees::<f32x16, Avx16>();
     } else {
         skipped.push("avx512");
