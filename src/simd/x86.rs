@@ -547,35 +547,59 @@ unsafe fn avx_movemask(a: __m256) -> u32 {
     unsafe { _mm256_movemask_ps(a) as u32 }
 }
 
-x86_lanes!(
-    Avx8(__m256), AvxU8(__m256i), 8, lanes8: Avx8,
-    f32: { splat: _mm256_set1_ps, load: _mm256_loadu_ps, store: _mm256_storeu_ps,
-           add: _mm256_add_ps, sub: _mm256_sub_ps, mul: _mm256_mul_ps, div: _mm256_div_ps,
-           and: _mm256_and_ps, or: _mm256_or_ps, xor: _mm256_xor_ps, andnot: _mm256_andnot_ps,
-           lt: avx_lt, le: avx_le, gt: avx_gt, ge: avx_ge, eq: avx_eq, ne: avx_ne,
-           unordered: avx_unordered, blend: _mm256_blendv_ps, movemask: avx_movemask,
-           sqrt: _mm256_sqrt_ps, min: _mm256_min_ps, max: _mm256_max_ps,
-           to_int: _mm256_castps_si256, from_int: _mm256_castsi256_ps },
-    u32: { splat: _mm256_set1_epi32, load: _mm256_loadu_si256, store: _mm256_storeu_si256,
-           lt: avx_lt_epu32, blend: _mm256_blendv_epi8, from_bits: avx_bits_to_lanes }
+/// [`x86_lanes!`] for a type of one `__m256` (its own 8-lane type): AVX2's
+/// arithmetic, loads and stores, with the compares, bit mask, u32 compare and
+/// lane mask given (AVX2's, or AVX-512VL's through mask registers).
+macro_rules! avx256_lanes {
+    (
+        $(#[doc = $doc:literal])*
+        $f:ident, $u:ident,
+        compares: { lt: $lt:path, le: $le:path, gt: $gt:path, ge: $ge:path, eq: $eq:path,
+                    ne: $ne:path, unordered: $unord:path, movemask: $movemask:path },
+        u32: { lt: $ult:path, from_bits: $from_bits:path }
+    ) => {
+        x86_lanes!(
+            $(#[doc = $doc])*
+            $f(__m256), $u(__m256i), 8, lanes8: $f,
+            f32: { splat: _mm256_set1_ps, load: _mm256_loadu_ps, store: _mm256_storeu_ps,
+                   add: _mm256_add_ps, sub: _mm256_sub_ps, mul: _mm256_mul_ps, div: _mm256_div_ps,
+                   and: _mm256_and_ps, or: _mm256_or_ps, xor: _mm256_xor_ps, andnot: _mm256_andnot_ps,
+                   lt: $lt, le: $le, gt: $gt, ge: $ge, eq: $eq, ne: $ne,
+                   unordered: $unord, blend: _mm256_blendv_ps, movemask: $movemask,
+                   sqrt: _mm256_sqrt_ps, min: _mm256_min_ps, max: _mm256_max_ps,
+                   to_int: _mm256_castps_si256, from_int: _mm256_castsi256_ps },
+            u32: { splat: _mm256_set1_epi32, load: _mm256_loadu_si256, store: _mm256_storeu_si256,
+                   lt: $ult, blend: _mm256_blendv_epi8, from_bits: $from_bits }
+        );
+    };
+}
+
+avx256_lanes!(
+    Avx8, AvxU8,
+    compares: { lt: avx_lt, le: avx_le, gt: avx_gt, ge: avx_ge, eq: avx_eq, ne: avx_ne,
+                unordered: avx_unordered, movemask: avx_movemask },
+    u32: { lt: avx_lt_epu32, from_bits: avx_bits_to_lanes }
 );
 
 pair_lanes!(Avx8x2, AvxU8x2, Avx8, AvxU8, 16, lanes8: Avx8);
 
 // ---- AVX-512: 16 lanes per register; compares give bit masks, widened to lanes ----
 
-/// Compares with `wide`'s predicates, widened from a bit mask to all-ones lanes.
-macro_rules! avx512_compares {
-    ($($name:ident: $predicate:ident),*) => {$(
+/// Compares with `wide`'s predicates into a mask register (`$compare`),
+/// widened to all-ones lanes (`$widen`, then `$cast` back to floats): of 16
+/// lanes ([`Avx16`]) or, with VL, of 8 ([`Avx8Vl`]).
+macro_rules! mask_compares {
+    ($vector:ty, $compare:ident, $widen:ident, $cast:ident: $($name:ident: $predicate:ident),*) => {$(
         #[inline(always)]
-        unsafe fn $name(a: __m512, b: __m512) -> __m512 {
-            // SAFETY: the caller runs with AVX-512 F and DQ.
-            unsafe { _mm512_castsi512_ps(_mm512_movm_epi32(_mm512_cmp_ps_mask::<$predicate>(a, b))) }
+        unsafe fn $name(a: $vector, b: $vector) -> $vector {
+            // SAFETY: the caller runs with AVX-512 F and DQ (and VL for 8 lanes).
+            unsafe { $cast($widen($compare::<$predicate>(a, b))) }
         }
     )*};
 }
 
-avx512_compares!(
+mask_compares!(
+    __m512, _mm512_cmp_ps_mask, _mm512_movm_epi32, _mm512_castsi512_ps:
     avx512_lt: _CMP_LT_OQ, avx512_le: _CMP_LE_OQ, avx512_gt: _CMP_GT_OQ, avx512_ge: _CMP_GE_OQ,
     avx512_eq: _CMP_EQ_OQ, avx512_ne: _CMP_NEQ_UQ, avx512_unordered: _CMP_UNORD_Q
 );
@@ -644,22 +668,12 @@ x86_lanes!(
 
 // ---- AVX-512VL: 8 lanes per register, compares through mask registers ----
 
-/// Compares with `wide`'s predicates into a mask register, widened to
-/// all-ones lanes. A bit mask taken of one ([`SimdFloat::bitmask`]) is then
-/// the compare's own mask register: two 8-lane halves' masks join in mask or
-/// general registers, where AVX2's `movemask` of two halves was fused by LLVM
-/// into one 512-bit instruction (see [`Avx8Vl`]).
-macro_rules! avx512vl_compares {
-    ($($name:ident: $predicate:ident),*) => {$(
-        #[inline(always)]
-        unsafe fn $name(a: __m256, b: __m256) -> __m256 {
-            // SAFETY: the caller runs with AVX-512 F, VL and DQ.
-            unsafe { _mm256_castsi256_ps(_mm256_movm_epi32(_mm256_cmp_ps_mask::<$predicate>(a, b))) }
-        }
-    )*};
-}
-
-avx512vl_compares!(
+// A bit mask taken of these compares ([`SimdFloat::bitmask`]) is the
+// compare's own mask register: two 8-lane halves' masks join in mask or
+// general registers, where LLVM fused AVX2's `movemask`s of two halves into
+// one 512-bit instruction (see [`Avx8Vl`]).
+mask_compares!(
+    __m256, _mm256_cmp_ps_mask, _mm256_movm_epi32, _mm256_castsi256_ps:
     avx512vl_lt: _CMP_LT_OQ, avx512vl_le: _CMP_LE_OQ, avx512vl_gt: _CMP_GT_OQ,
     avx512vl_ge: _CMP_GE_OQ, avx512vl_eq: _CMP_EQ_OQ, avx512vl_ne: _CMP_NEQ_UQ,
     avx512vl_unordered: _CMP_UNORD_Q
@@ -686,22 +700,16 @@ unsafe fn avx512vl_bits_to_lanes(bits: u32) -> __m256i {
     unsafe { _mm256_movm_epi32(bits as u8) }
 }
 
-x86_lanes!(
+avx256_lanes!(
     /// The AVX-512 level's 8-lane type: AVX2's arithmetic, AVX-512VL's
     /// compares into mask registers. With [`Avx8`] the 16-wide node test of
     /// single rays, in two halves, ran one 512-bit instruction a visit
     /// (LLVM's fusion of the halves' `movemask`s), which on an Intel Xeon
     /// slowed single rays by about a fifth (`docs/measurements.md`,
     /// "Instruction sets at run time").
-    Avx8Vl(__m256), AvxU8Vl(__m256i), 8, lanes8: Avx8Vl,
-    f32: { splat: _mm256_set1_ps, load: _mm256_loadu_ps, store: _mm256_storeu_ps,
-           add: _mm256_add_ps, sub: _mm256_sub_ps, mul: _mm256_mul_ps, div: _mm256_div_ps,
-           and: _mm256_and_ps, or: _mm256_or_ps, xor: _mm256_xor_ps, andnot: _mm256_andnot_ps,
-           lt: avx512vl_lt, le: avx512vl_le, gt: avx512vl_gt, ge: avx512vl_ge,
-           eq: avx512vl_eq, ne: avx512vl_ne, unordered: avx512vl_unordered,
-           blend: _mm256_blendv_ps, movemask: avx512vl_movemask,
-           sqrt: _mm256_sqrt_ps, min: _mm256_min_ps, max: _mm256_max_ps,
-           to_int: _mm256_castps_si256, from_int: _mm256_castsi256_ps },
-    u32: { splat: _mm256_set1_epi32, load: _mm256_loadu_si256, store: _mm256_storeu_si256,
-           lt: avx512vl_lt_epu32, blend: _mm256_blendv_epi8, from_bits: avx512vl_bits_to_lanes }
+    Avx8Vl, AvxU8Vl,
+    compares: { lt: avx512vl_lt, le: avx512vl_le, gt: avx512vl_gt, ge: avx512vl_ge,
+                eq: avx512vl_eq, ne: avx512vl_ne, unordered: avx512vl_unordered,
+                movemask: avx512vl_movemask },
+    u32: { lt: avx512vl_lt_epu32, from_bits: avx512vl_bits_to_lanes }
 );
