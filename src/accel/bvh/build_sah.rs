@@ -234,17 +234,23 @@ impl PrimRef {
         self.lower.w.to_bits().wrapping_sub(ID_BIAS)
     }
 
+    /// Twice the centroid, `lower + upper`: the builder bins, partitions and
+    /// sorts by it and keeps the centroid boxes of nodes in these units, one
+    /// addition where the centroid itself takes two products more. Doubling
+    /// is exact, so every bin, boundary and order is the one the centroid
+    /// would give (only boxes within a factor 2 of `f32::MAX` see their
+    /// doubled centroid overflow, and are then split at the median).
     #[inline(always)]
     fn centroid(&self) -> Vec3A {
         Vec3A::from_vec4(self.centroid_lanes())
     }
 
-    /// The centroid in the first three lanes of all four (the fourth is
-    /// half the index's float, normal: see [`PrimRef::bounds`]); the binning
-    /// reads it so, with no lane to clear.
+    /// [`PrimRef::centroid`] in the first three lanes of all four (the
+    /// fourth is the index's float, normal: see [`PrimRef::bounds`]); the
+    /// binning reads it so, with no lane to clear.
     #[inline(always)]
     fn centroid_lanes(&self) -> Vec4 {
-        0.5 * self.lower + 0.5 * self.upper
+        self.lower + self.upper
     }
 }
 
@@ -761,12 +767,13 @@ mod tests {
             },
         );
         // Centroids x = 0.5..99.5 in 10 bins of 9.9: bins 0..=2 hold x < 30.2, ids 0..=29.
+        // (The builder's centroid boxes are in doubled centroids: `PrimRef::centroid`.)
         assert_eq!(d.left_count, 30);
         assert!(sorted[..30].iter().all(|r| r.id() < 30));
         assert!(sorted[30..].iter().all(|r| r.id() >= 30));
-        assert_eq!(d.children[0].1.max.x, 29.5);
-        assert_eq!(d.children[1].1.min.x, 30.5);
-        assert_eq!(d.children[1].1.max.x, 99.5);
+        assert_eq!(d.children[0].1.max.x, 2.0 * 29.5);
+        assert_eq!(d.children[1].1.min.x, 2.0 * 30.5);
+        assert_eq!(d.children[1].1.max.x, 2.0 * 99.5);
         let mut ids: Vec<u32> = sorted.iter().map(PrimRef::id).collect();
         ids.sort();
         assert_eq!(ids, (0..100).collect::<Vec<_>>());
@@ -903,9 +910,9 @@ mod tests {
         for id in [0, 1, 12345, 1 << 23, (1 << 24) + 7, (1 << 30) - 1] {
             let r = PrimRef::new(Box3::new(Vec3A::ZERO, Vec3A::ONE), id);
             assert_eq!(r.id(), id);
-            // The centroid's arithmetic (½ of it) must stay normal too.
+            // The centroid's arithmetic on it must stay normal too.
             let w = r.lower.w;
-            assert!(w >= 1.0 && (0.5 * w).is_normal(), "{id}: {w:e}");
+            assert!(w >= 1.0 && r.centroid_lanes().w.is_normal(), "{id}: {w:e}");
         }
         let r = PrimRef::new(Box3::new(Vec3A::ZERO, Vec3A::ONE), u32::MAX);
         assert_eq!(r.id(), u32::MAX);
