@@ -5,5 +5,7 @@
 static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
 
 fn main() -> std::process::ExitCode {
+    // Trees built one after another reuse warm pages (see the function).
+    raypack::huge_pages::keep_freed_memory();
     raypack::cli::main()
 }
