@@ -165,6 +165,8 @@ fn criterion_group(c: &mut Criterion, size: u32) {
 }
 
 fn main() {
+    // Builds one after another reuse warm pages, as in the binary.
+    raypack::huge_pages::keep_freed_memory();
     let size = std::env::var("RAYPACK_BENCH_SIZE")
         .ok()
         .and_then(|s| s.parse().ok())

@@ -39,6 +39,8 @@ fn bench_setup(c: &mut Criterion, setup: &TraversalSetup) {
 }
 
 fn generated(c: &mut Criterion) {
+    // Builds one after another reuse warm pages, as in the binary.
+    raypack::huge_pages::keep_freed_memory();
     for kind in ["mesh", "spheres"] {
         for n in [1_000, 10_000, 100_000, 1_000_000] {
             let setup =
