@@ -241,8 +241,10 @@ impl PrimRef {
     /// sorts by it and keeps the centroid boxes of nodes in these units, one
     /// addition where the centroid itself takes two products more. Doubling
     /// is exact, so every bin, boundary and order is the one the centroid
-    /// would give (only boxes within a factor 2 of `f32::MAX` see their
-    /// doubled centroid overflow, and are then split at the median).
+    /// would give. Only boxes within a factor 2 of `f32::MAX` see their
+    /// doubled centroid overflow: an axis whose centroid extent is then not
+    /// finite is not binned ([`bin_scales`]), and a node falls back to the
+    /// median split only where no axis can be binned.
     #[inline(always)]
     fn centroid(&self) -> Vec3A {
         Vec3A::from_vec4(self.centroid_lanes())
