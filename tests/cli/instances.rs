@@ -146,6 +146,37 @@ fn bench_scene_times_instanced_scenes() {
 }
 
 #[test]
+fn bench_scene_heads_its_table_with_the_instanced_counts_info_gives() {
+    let info = raypack(&["info", "gen:forest:20", "--json"]);
+    assert!(info.status.success(), "{}", stderr(&info));
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let count = |key: &str| info["instancing"][key].as_u64().unwrap();
+    let o = raypack(&[
+        "bench",
+        "scene",
+        "gen:forest:20",
+        "--size",
+        "16x16",
+        "--runs",
+        "1",
+        "--threads",
+        "1",
+        "--rays",
+        "primary",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let head = String::from_utf8(o.stdout).unwrap();
+    let head = head.lines().next().unwrap().to_owned();
+    // Every id the rays may hit, then the unique primitives and the instances.
+    let expected = format!(
+        "gen:forest:20: {} primitives ({} unique, 20 instances), 16x16 primary rays",
+        count("instanced_primitives"),
+        count("unique_primitives"),
+    );
+    assert!(head.starts_with(&expected), "{head}\nexpected {expected}");
+}
+
+#[test]
 fn a_bad_instance_transform_names_the_include() {
     let dir = Scratch::new("cli-instances-bad");
     dir.write("part.nff", "p 3\n0 0 0\n1 0 0\n0 1 0\n");

@@ -18,6 +18,7 @@ use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::engines::{Engine, EngineOptions, WithAccel};
 use crate::render::{Block, KernelKind};
+use crate::scene::Scene;
 use crate::statistics::{StatsError, Summary};
 
 /// Options of `bench scene`.
@@ -441,10 +442,11 @@ pub fn run(args: SceneArgs) -> CliResult {
         .then_some(crate::embree_settings::DEFAULT_EMBREE_CONFIG);
     run.finish(rows, figures, embree, |rows| {
         outln!(
-            "{}: {} primitives, {}x{} primary rays through pixel centres (other kinds from their hits), \
+            "{}: {} primitives{}, {}x{} primary rays through pixel centres (other kinds from their hits), \
              accel {}, {}px tiles, {} runs per variant after a warm-up, interleaved",
             name,
-            scene.primitives.len(),
+            scene.id_count(),
+            instanced_counts(&scene),
             camera.width,
             camera.height,
             args.accel.name(),
@@ -480,6 +482,19 @@ struct Measured {
 /// The first two are over `m` itself at the latest. Every engine's variants
 /// are interleaved in the same rounds, so run `i` of one pairs with run `i` of
 /// another.
+/// What a scene with instances holds beside its primitive ids, for the
+/// header line: " (U unique, I instances)", or nothing for a flat scene.
+fn instanced_counts(scene: &Scene) -> String {
+    if scene.instances.is_empty() {
+        return String::new();
+    }
+    format!(
+        " ({} unique, {} instances)",
+        scene.unique_primitives(),
+        scene.instances.list().len()
+    )
+}
+
 fn ratios(m: &Measured, all: &[Measured]) -> Result<(Summary, Summary, Option<Summary>), StatsError> {
     let v = m.timing.variant;
     let same_kind = || all.iter().filter(|o| o.kind == m.kind);
