@@ -1,7 +1,7 @@
 //! `raypack check SCENE [--engine NAME] [--reference NAME] [--rays primary|random|both]`:
 //! trace the same rays with a reference engine (raypack by default) and another
 //! engine of the registry (Embree by default) and report how well they agree: hit/miss,
-//! same primitive, ties on shared edges, relative t error (p50, p99, max), and
+//! same primitive, ties on shared edges, t error (p50, p99, max), and
 //! the first disagreeing rays with their coordinates. Every disagreement is
 //! classified (hit/miss flip, tie at a shared edge or vertex, coincident
 //! surfaces, different primitive, same primitive with t beyond `--max-ulps`;
@@ -70,7 +70,8 @@ pub struct CheckArgs {
     /// Fail (exit 1) when hit/miss or primitive agreement (ties counted as agreeing) is lower.
     #[arg(long, default_value_t = 0.9999)]
     pub min_agreement: f64,
-    /// Fail (exit 1) when the p99 relative t error is higher.
+    /// Fail (exit 1) when the p99 t error is higher (the distance between the
+    /// two hit points over the size of their coordinates or of t, the larger).
     #[arg(long, default_value_t = 1e-5)]
     pub max_t_error: f64,
     /// Disagreeing rays to list.
@@ -352,7 +353,7 @@ fn print_report(
             c.coincident
         )?;
         outln!(
-            "  relative t error      p50 {:.2e}  p99 {:.2e}  max {:.2e}  (over {} same-primitive hits)",
+            "  t error               p50 {:.2e}  p99 {:.2e}  max {:.2e}  (over {} same-primitive hits; hit points' distance over their coordinates' scale)",
             g.t_error.p50,
             g.t_error.p99,
             g.t_error.max,

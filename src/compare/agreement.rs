@@ -5,17 +5,23 @@
 //! | class | meaning |
 //! | --- | --- |
 //! | both miss | agree |
-//! | same primitive | both hit the same primitive with t within `max_ulps` ulps: agree; its relative t error counts in the quantiles |
+//! | same primitive | both hit the same primitive with t within `max_ulps` ulps: agree; its t error counts in the quantiles |
 //! | t beyond ulps | both hit the same primitive, t more than `max_ulps` ulps apart (still a same-primitive hit in the agreement fractions and the t error quantiles) |
 //! | tie | both hit, different primitives, t equal within `tie_tolerance`, and a hit point within `edge_tolerance` of an edge or vertex of either primitive: a ray through an edge or vertex two primitives share; each engine may pick either one |
 //! | coincident | both hit, different primitives, t equal within `tie_tolerance`, away from their edges: surfaces that cross or coincide there (or shapes without edges: spheres, planes, cones); either pick is right |
 //! | different primitive | both hit, different primitives at different t: a real disagreement |
 //! | hit / miss | one engine hits, the other misses: a real disagreement (near silhouettes, usually) |
 //!
-//! The relative t error of a ray is `|t_a − t_b| / |t_a|`. The edge tolerance
-//! is relative to the size of the hit point's coordinates and of the distance
-//! travelled, `edge_tolerance · max(|p|∞, t·|d|)`: the scale of the rounding
-//! error of `p = o + t·d`.
+//! Both the t error and the edge tolerance are relative to the scale of the
+//! rounding error of the hit point `p = o + t·d`, the size of its
+//! coordinates and of the distance travelled: `max(|p|∞, t·|d|)`. The t error
+//! of a ray is the distance between the two hit points, `|t_a − t_b|·|d|`, over
+//! that scale; the edge tolerance is `edge_tolerance` times it. Where t·|d| is
+//! the larger the t error is the relative `|t_a − t_b| / t_a`; a ray that
+//! starts near a surface far from the origin (a secondary ray in a large
+//! scene, a ray taken through an instance's transform) meets it at a small t
+//! but at coordinates whose rounding no engine avoids, and that rounding, not
+//! t, is what two engines can agree to.
 
 use glam::Vec3;
 
@@ -120,6 +126,19 @@ fn segment_distance(p: Vec3, (a, b): (Vec3, Vec3)) -> f32 {
     p.distance(a + s * ab)
 }
 
+/// The scale of the rounding error of `ray`'s point at `t`: `max(|p|∞, t·|d|)`.
+#[inline]
+fn hit_scale(ray: &Ray, t: f32) -> f32 {
+    ray.at(t).abs().max_element().max(t.abs() * ray.dir.length())
+}
+
+/// The t error of two hits of `ray` at `a` and `b`: the distance between the
+/// hit points over the scale of the first's rounding error (module docs).
+pub fn t_error(ray: &Ray, a: f32, b: f32) -> f64 {
+    let distance = f64::from((a - b).abs()) * f64::from(ray.dir.length());
+    distance / f64::from(hit_scale(ray, a).max(f32::MIN_POSITIVE))
+}
+
 /// The class of `ray` from the two engines' hits `a` and `b` on `prims`.
 pub fn classify(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit, options: &AgreementOptions) -> RayClass {
     use DisagreementKind::*;
@@ -137,7 +156,7 @@ pub fn classify(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit, options: &Agre
             // Step 1: the same t; step 2: is either hit point at an edge of either primitive?
             let at_edge = [a.t, b.t].iter().any(|&t| {
                 let p = ray.at(t);
-                let tolerance = options.edge_tolerance * p.abs().max_element().max(t * ray.dir.length());
+                let tolerance = options.edge_tolerance * hit_scale(ray, t);
                 [a.prim, b.prim]
                     .iter()
                     .filter_map(|&i| prims.get(i as usize))
@@ -289,7 +308,7 @@ impl Agreement {
                 }
                 RayClass::SamePrimitive => {
                     out.same_primitive += 1;
-                    errors.push(((ha.t - hb.t).abs() / ha.t.abs()) as f64);
+                    errors.push(t_error(ray, ha.t, hb.t));
                     continue;
                 }
                 RayClass::Disagree(kind) => {
@@ -297,7 +316,7 @@ impl Agreement {
                         DisagreementKind::TBeyondUlps => {
                             out.same_primitive += 1;
                             out.t_beyond_ulps += 1;
-                            errors.push(((ha.t - hb.t).abs() / ha.t.abs()) as f64);
+                            errors.push(t_error(ray, ha.t, hb.t));
                         }
                         DisagreementKind::OnlyA => out.only_a += 1,
                         DisagreementKind::OnlyB => out.only_b += 1,
@@ -515,6 +534,22 @@ mod tests {
             class_at(&moved, 0.0, 0.3, both.0, both.1),
             RayClass::Disagree(DisagreementKind::Coincident)
         );
+    }
+
+    #[test]
+    fn the_t_error_is_the_hit_points_distance_over_their_scale() {
+        // Far along a ray from near the origin: the relative t difference.
+        let from_origin = Ray::unbounded(Vec3::ZERO, Vec3::X);
+        assert!((t_error(&from_origin, 100.0, 100.001) - 1e-5).abs() < 1e-7);
+        // A ray leaving a surface at x = 1000: one ulp of the hit point's
+        // coordinates (6.1e-5) at t = 1e-4 is 61% of t, but 6.1e-8 of its scale.
+        let near_surface = Ray::unbounded(Vec3::new(1000.0, 0.0, 0.0), Vec3::Y);
+        let ulp = 1000f32.next_up() - 1000.0;
+        let e = t_error(&near_surface, 1e-4, 1e-4 + ulp);
+        assert!((e - f64::from(ulp) / 1000.0).abs() < 1e-10, "{e}");
+        // The direction's length counts: t is in units of |d|.
+        let long = Ray::unbounded(Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0));
+        assert!((t_error(&long, 100.0, 100.001) - 1e-5).abs() < 1e-7);
     }
 
     #[test]

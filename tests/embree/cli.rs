@@ -65,7 +65,7 @@ fn check_reports_agreement_and_exits_by_the_bars() {
     );
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(
-        stdout.contains("relative t error") && stdout.contains("5000 random rays"),
+        stdout.contains("t error") && stdout.contains("5000 random rays"),
         "{stdout}"
     );
 }
