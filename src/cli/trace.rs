@@ -175,8 +175,14 @@ pub fn run(args: TraceArgs) -> CliResult {
     let built = device.build_scene(&scene).map_err(engine_error)?;
     let pool = thread_pool(None)?;
     Engine::prepare_threads(&[args.engine], &pool);
+    // Nearest hits come from the engine's own structure, instances and all;
+    // only the other queries read the primitives, flattened.
+    let prims = match args.query {
+        Query::Nearest => &[],
+        _ => flat_primitives(&scene)?,
+    };
     let job = TraceJob {
-        prims: flat_primitives(&scene)?,
+        prims,
         rays: &rays,
         query: args.query,
         kernel: args.kernel,

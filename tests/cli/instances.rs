@@ -118,6 +118,33 @@ fn a_billion_instanced_triangles_load_and_render() {
         "96x96",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // `trace` answers nearest hits through the instances too: flattened, the
+    // scene would be 10⁹ primitives, which it refuses to make. A ray straight
+    // down from high above the forest's middle meets a tree, a rock or the
+    // ground; one pointing up meets nothing.
+    let rays = dir.path().join("rays.csv");
+    std::fs::write(
+        &rays,
+        "ox,oy,oz,dx,dy,dz,tmin,tmax\n470,500,470,0,-1,0,0,inf\n470,500,470,0,1,0,0,inf\n",
+    )
+    .unwrap();
+    let hits = dir.path().join("hits.csv");
+    let o = raypack(&[
+        "trace",
+        "gen:forest:56000",
+        "--rays",
+        rays.to_str().unwrap(),
+        "--out",
+        hits.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let hits = std::fs::read_to_string(&hits).unwrap();
+    let lines: Vec<&str> = hits.lines().collect();
+    assert_eq!(lines.len(), 3, "{hits}");
+    let (t, prim) = lines[1].split_once(',').unwrap();
+    let t: f32 = t.parse().unwrap();
+    assert!(t > 480.0 && t <= 500.0 && prim != "-1", "{hits}");
+    assert_eq!(lines[2], "inf,-1", "{hits}");
 }
 
 #[test]
