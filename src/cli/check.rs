@@ -21,7 +21,7 @@ use anyhow::anyhow;
 
 use crate::accel::AccelKind;
 use crate::atomic_file::AtomicFile;
-use crate::cli::args::{engine_error, environment, flat_primitives, load_scene, parse_size, thread_pool};
+use crate::cli::args::{engine_error, environment, load_scene, parse_size, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::compare::diff_image::diff_image;
@@ -213,7 +213,7 @@ pub fn run(args: CheckArgs) -> CliResult {
             };
             pool.install(|| b.visit(job))
         });
-        let classes = classify_rays(flat_primitives(&scene)?, &rays, &hits_a, &hits_b, &options);
+        let classes = classify_rays(&scene, &rays, &hits_a, &hits_b, &options);
         let agreement = Agreement::from_classes(&rays, &hits_a, &hits_b, &classes, options.keep);
         if set == CheckRays::Primary && diff_file.is_some() {
             let caption = vec![

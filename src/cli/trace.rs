@@ -222,7 +222,7 @@ pub fn run(args: TraceArgs) -> CliResult {
 /// The classes of the rays on which `ours` and `theirs` differ, counted.
 fn print_diff(scene: &Scene, rays: &[Ray], ours: &[Hit], theirs: &[Hit], args: &TraceArgs) -> CliResult {
     let options = AgreementOptions::default();
-    let classes = classify_rays(flat_primitives(scene)?, rays, ours, theirs, &options);
+    let classes = classify_rays(scene, rays, ours, theirs, &options);
     let agreement = Agreement::from_classes(rays, ours, theirs, &classes, options.keep);
     let (a, b) = (args.engine.name(), "the --diff file");
     outln!(

@@ -23,10 +23,13 @@
 //! but at coordinates whose rounding no engine avoids, and that rounding, not
 //! t, is what two engines can agree to.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
 use crate::geometry::Primitive;
 use crate::ray::{Hit, Ray};
+use crate::scene::Scene;
 
 /// Settings of a comparison.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -126,6 +129,27 @@ fn segment_distance(p: Vec3, (a, b): (Vec3, Vec3)) -> f32 {
     p.distance(a + s * ab)
 }
 
+/// Where [`classify`] finds a hit primitive's shape in world space, by id.
+pub trait PrimitiveIds {
+    /// Primitive `id` in world space; None for an id beyond the last.
+    fn world_primitive(&self, id: u32) -> Option<Cow<'_, Primitive>>;
+}
+
+/// A flat list, ids its indices.
+impl PrimitiveIds for [Primitive] {
+    fn world_primitive(&self, id: u32) -> Option<Cow<'_, Primitive>> {
+        self.get(id as usize).map(Cow::Borrowed)
+    }
+}
+
+/// A scene: its own primitives, and its instances' placed one at a time
+/// (a scene of 10⁹ instanced primitives is never flattened).
+impl PrimitiveIds for Scene {
+    fn world_primitive(&self, id: u32) -> Option<Cow<'_, Primitive>> {
+        (u64::from(id) < self.id_count()).then(|| Scene::world_primitive(self, id))
+    }
+}
+
 /// The scale of the rounding error of `ray`'s point at `t`: `max(|p|∞, t·|d|)`.
 #[inline]
 fn hit_scale(ray: &Ray, t: f32) -> f32 {
@@ -140,7 +164,13 @@ pub fn t_error(ray: &Ray, a: f32, b: f32) -> f64 {
 }
 
 /// The class of `ray` from the two engines' hits `a` and `b` on `prims`.
-pub fn classify(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit, options: &AgreementOptions) -> RayClass {
+pub fn classify<P: PrimitiveIds + ?Sized>(
+    prims: &P,
+    ray: &Ray,
+    a: &Hit,
+    b: &Hit,
+    options: &AgreementOptions,
+) -> RayClass {
     use DisagreementKind::*;
     let kind = match (a.is_hit(), b.is_hit()) {
         (false, false) => return RayClass::BothMiss,
@@ -159,8 +189,8 @@ pub fn classify(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit, options: &Agre
                 let tolerance = options.edge_tolerance * hit_scale(ray, t);
                 [a.prim, b.prim]
                     .iter()
-                    .filter_map(|&i| prims.get(i as usize))
-                    .flat_map(edges)
+                    .filter_map(|&i| prims.world_primitive(i))
+                    .flat_map(|prim| edges(&prim))
                     .any(|e| segment_distance(p, e) <= tolerance)
             });
             if at_edge { Tie } else { Coincident }
@@ -171,8 +201,8 @@ pub fn classify(prims: &[Primitive], ray: &Ray, a: &Hit, b: &Hit, options: &Agre
 }
 
 /// The class of every ray (see [`classify`]).
-pub fn classify_rays(
-    prims: &[Primitive],
+pub fn classify_rays<P: PrimitiveIds + ?Sized>(
+    prims: &P,
     rays: &[Ray],
     a: &[Hit],
     b: &[Hit],

@@ -18,7 +18,8 @@ pub mod robustness;
 pub mod robustness_result;
 
 pub use agreement::{
-    Agreement, AgreementOptions, Disagreement, DisagreementKind, RayClass, classify, classify_rays,
+    Agreement, AgreementOptions, Disagreement, DisagreementKind, PrimitiveIds, RayClass, classify,
+    classify_rays,
 };
 pub use batch::{Kernel, NearestHits, trace_rays};
 pub use ray_sets::{CheckRays, primary_rays, primary_rays_in_blocks, random_rays};

@@ -1,6 +1,7 @@
 //! The scene model: primitives in file order, their materials, the lights and
 //! the camera, as every reader returns them.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 use glam::{Mat4, Vec3};
@@ -318,23 +319,29 @@ impl Scene {
     fn flattened_parts(&self) -> impl Iterator<Item = (Primitive, u32, Option<[Vec3; 3]>)> + '_ {
         (0..self.id_count() as u32).map(|id| {
             let located = self.locate(id);
-            match located.instance {
-                None => (
-                    located.primitive.clone(),
-                    located.material,
-                    located.vertex_normals.copied(),
-                ),
+            let normals = match located.instance {
+                None => located.vertex_normals.copied(),
                 Some((_, instance)) => {
                     let m = instance.normal_to_world();
-                    (
-                        placed_primitive(located.primitive, instance.to_world)
-                            .expect("a placed instance's transform is affine and invertible"),
-                        located.material,
-                        located.vertex_normals.map(|n| n.map(|n| placed_normal(n, m))),
-                    )
+                    located.vertex_normals.map(|n| n.map(|n| placed_normal(n, m)))
                 }
-            }
+            };
+            (self.world_primitive(id).into_owned(), located.material, normals)
         })
+    }
+
+    /// Primitive `id` (below [`id_count`](Self::id_count)) in world space:
+    /// an own primitive as it is, an instanced one copied and placed, without
+    /// flattening the scene.
+    pub fn world_primitive(&self, id: u32) -> Cow<'_, Primitive> {
+        let located = self.locate(id);
+        match located.instance {
+            None => Cow::Borrowed(located.primitive),
+            Some((_, instance)) => Cow::Owned(
+                placed_primitive(located.primitive, instance.to_world)
+                    .expect("a placed instance's transform is affine and invertible"),
+            ),
+        }
     }
 
     /// Append a primitive with a material; returns its index.

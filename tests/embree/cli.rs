@@ -70,6 +70,35 @@ fn check_reports_agreement_and_exits_by_the_bars() {
     );
 }
 
+/// `check` on a scene of 10⁹ instanced triangles: both engines trace it
+/// through their instances, and the classifier places the primitives it needs
+/// one at a time (flattened, the scene is too large to make).
+#[test]
+fn check_compares_instances_without_flattening_the_scene() {
+    let output = raypack()
+        .args([
+            "check",
+            "gen:forest:56000",
+            "--n",
+            "20000",
+            "--size",
+            "64x64",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    for set in report["sets"].as_array().unwrap() {
+        assert!(set["hit_agreement"].as_f64().unwrap() >= 0.9999, "{set}");
+        assert!(set["agreement"]["same_primitive"].as_u64().unwrap() > 0, "{set}");
+    }
+}
+
 /// Two squares sharing the edge x = 0 of the plane z = 0, seen head-on by a
 /// 7×7 camera: the middle column of pixel centres hits the shared edge exactly.
 const SHARED_EDGE_NFF: &str = "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0.01\nresolution 7 7\n\
