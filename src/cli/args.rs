@@ -143,9 +143,15 @@ pub fn engine_error(e: anyhow::Error) -> CliError {
 
 /// The scene's primitives in world space under their ids, instanced ones as
 /// copies ([`Scene::flat_primitives`](crate::scene::Scene::flat_primitives)):
-/// what the agreement's edge tests and `trace`'s queries read.
-pub fn flat_primitives(scene: &crate::scene::Scene) -> Result<&[crate::geometry::Primitive], CliError> {
-    scene.flat_primitives().map_err(|e| CliError::BadInput(e.into()))
+/// what `stats` counts on and `trace`'s queries other than the nearest read.
+/// `reader` names who needs them, for the error when the copies would be too many.
+pub fn flat_primitives<'s>(
+    scene: &'s crate::scene::Scene,
+    reader: &str,
+) -> Result<&'s [crate::geometry::Primitive], CliError> {
+    scene.flat_primitives().map_err(|e| {
+        CliError::BadInput(anyhow::Error::new(e).context(format!("{reader} reads every primitive as a copy")))
+    })
 }
 
 /// raypack's arguments as given (without the program's name), for a

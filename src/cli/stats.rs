@@ -83,8 +83,8 @@ pub fn run(args: Args) -> CliResult {
         accel: args.accel,
         ..EngineOptions::default()
     };
-    let (counted, setup) =
-        with_engine(Engine::Raypack, &options, flat_primitives(&scene)?, job).map_err(CliError::Failed)?;
+    let (counted, setup) = with_engine(Engine::Raypack, &options, flat_primitives(&scene, "stats")?, job)
+        .map_err(CliError::Failed)?;
     let (counts, trace, traversal) =
         counted.map_err(|e| CliError::BadInput(anyhow::anyhow!("{}: {e}", args.scene.display())))?;
     eprintln!(

@@ -179,7 +179,10 @@ pub fn run(args: TraceArgs) -> CliResult {
     // only the other queries read the primitives, flattened.
     let prims = match args.query {
         Query::Nearest => &[],
-        _ => flat_primitives(&scene)?,
+        _ => {
+            let query = clap::ValueEnum::to_possible_value(&args.query).expect("every query is named");
+            flat_primitives(&scene, &format!("trace --query {}", query.get_name()))?
+        }
     };
     let job = TraceJob {
         prims,

@@ -183,15 +183,17 @@ pub fn classify<P: PrimitiveIds + ?Sized>(
             TBeyondUlps
         }
         (true, true) if (a.t - b.t).abs() <= options.tie_tolerance * a.t.abs() => {
-            // Step 1: the same t; step 2: is either hit point at an edge of either primitive?
+            // Step 1: the same t; step 2: is either hit point at an edge of
+            // either primitive? (Each placed once: an instanced one is copied.)
+            let edges: Vec<_> = [a.prim, b.prim]
+                .iter()
+                .filter_map(|&i| prims.world_primitive(i))
+                .flat_map(|prim| edges(&prim))
+                .collect();
             let at_edge = [a.t, b.t].iter().any(|&t| {
                 let p = ray.at(t);
                 let tolerance = options.edge_tolerance * hit_scale(ray, t);
-                [a.prim, b.prim]
-                    .iter()
-                    .filter_map(|&i| prims.world_primitive(i))
-                    .flat_map(|prim| edges(&prim))
-                    .any(|e| segment_distance(p, e) <= tolerance)
+                edges.iter().any(|&e| segment_distance(p, e) <= tolerance)
             });
             if at_edge { Tie } else { Coincident }
         }

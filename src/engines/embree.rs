@@ -22,11 +22,13 @@ const CAPABILITIES: Capabilities = Capabilities {
 mod linked {
     use std::sync::Arc;
 
+    use anyhow::Context;
+
     use crate::embree::{Device, EmbreeScene, flush_denormals};
     use crate::embree_settings::EmbreeMode;
     use crate::engines::capabilities::Capabilities;
     use crate::engines::embree::{CAPABILITIES, EmbreeEngine};
-    use crate::engines::engine_module::{Description, EngineModule, EngineOptions, WithAccel};
+    use crate::engines::engine_module::{Description, EngineModule, EngineOptions, NO_INSTANCES, WithAccel};
     use crate::geometry::Primitive;
     use crate::scene::Scene;
 
@@ -56,7 +58,7 @@ mod linked {
             let instanced = scene.instances.meshes().iter().all(EmbreeScene::instances_mesh);
             if scene.instances.is_empty() || !instanced {
                 // No instances, or a mesh Embree cannot instance: copies under the same ids.
-                return Self::build(device, scene.flat_primitives()?);
+                return Self::build(device, scene.flat_primitives().context(NO_INSTANCES)?);
             }
             let (device, mode) = device;
             Ok(EmbreeScene::with_instances(

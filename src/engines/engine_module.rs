@@ -2,11 +2,16 @@
 //! the settings its device is made with, what its structure says about
 //! itself, and the jobs that run on any engine's structure ([`WithAccel`]).
 
+use anyhow::Context;
+
 use crate::accel::{Accel, AccelKind};
 use crate::embree_settings::{DEFAULT_EMBREE_CONFIG, EmbreeMode};
 use crate::engines::capabilities::Capabilities;
 use crate::geometry::Primitive;
 use crate::scene::Scene;
+
+/// What an engine that builds over copies says when the copies would be too many.
+pub const NO_INSTANCES: &str = "this engine has no instances of its own";
 
 /// Code to run with an engine's structure, whatever its type; the output may
 /// borrow the structure for `'s` (a timed unit of `bench scene` does).
@@ -79,7 +84,7 @@ pub trait EngineModule {
     /// of its own and builds over copies of the instanced primitives under
     /// the same ids ([`Scene::flat_primitives`]).
     fn build_scene<'p>(device: &Self::Device, scene: &'p Scene) -> anyhow::Result<Self::Built<'p>> {
-        Self::build(device, scene.flat_primitives()?)
+        Self::build(device, scene.flat_primitives().context(NO_INSTANCES)?)
     }
 
     /// Run `job` with the structure `built`.

@@ -118,8 +118,8 @@ pub enum InstanceError {
     TooManyIds(u64),
     /// Too many copies to flatten.
     #[error(
-        "this engine has no instances of its own, and flattening the scene would make {0} \
-         primitives, more than {MAX_FLATTENED} (raypack::scene::instance::MAX_FLATTENED)"
+        "flattening the scene into copies would make {0} primitives, more than \
+         {MAX_FLATTENED} (raypack::scene::instance::MAX_FLATTENED)"
     )]
     TooLargeToFlatten(u64),
 }

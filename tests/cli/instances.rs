@@ -145,6 +145,29 @@ fn a_billion_instanced_triangles_load_and_render() {
     let t: f32 = t.parse().unwrap();
     assert!(t > 480.0 && t <= 500.0 && prim != "-1", "{hits}");
     assert_eq!(lines[2], "inf,-1", "{hits}");
+    // `--query all` reads every primitive as a copy, which a scene this large
+    // cannot be made into: refused, saying which query needs the copies and
+    // nothing written.
+    let all = dir.path().join("all.csv");
+    let o = raypack(&[
+        "trace",
+        "gen:forest:56000",
+        "--rays",
+        rays.to_str().unwrap(),
+        "--query",
+        "all",
+        "--out",
+        all.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let message = stderr(&o);
+    assert!(
+        message.contains("trace --query all reads every primitive as a copy")
+            && message.contains("flattening the scene into copies would make")
+            && !message.contains("no instances of its own"),
+        "{message}"
+    );
+    assert!(!all.exists(), "nothing half-written");
 }
 
 #[test]
