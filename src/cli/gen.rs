@@ -1,7 +1,7 @@
 //! `raypack gen KIND [--size N] [--seed S] [-o FILE]`: write a generated scene
 //! to stdout or, atomically ([`AtomicFile`]), to a file: as NFF, or as glTF
-//! where the file name ends in `.glb` or `.gltf` (an instanced kind such as
-//! `forest` is glTF only, and goes to stdout as `.gltf` JSON).
+//! where the file name ends in `.glb` or `.gltf` (an instanced kind, `forest`
+//! or `city`, is glTF only, and goes to stdout as `.gltf` JSON).
 
 use std::io::{self, BufWriter, Write};
 use std::path::PathBuf;
@@ -22,10 +22,10 @@ pub struct GenArgs {
     /// Size: the SPD size factor (sphereflake, tetra, fractal-mountain: 4 is the
     /// classic scene; rings 7, tree 11, teapot 12 give the SPD's published
     /// counts), the primitive count (random-spheres, random-triangles), the
-    /// subdivision level (terrain: 2·4^N triangles) or the instance count (forest).
+    /// subdivision level (terrain: 2·4^N triangles) or the instance count (forest, city).
     #[arg(long)]
     pub size: Option<u32>,
-    /// Seed of random-spheres, random-triangles, terrain and forest (default
+    /// Seed of random-spheres, random-triangles, terrain, forest and city (default
     /// 1); the mountain number of fractal-mountain (default 21, the SPD's).
     #[arg(long)]
     pub seed: Option<u64>,

@@ -241,12 +241,13 @@ fn a_bad_instance_transform_names_the_include() {
     assert!(o.stdout.is_empty());
 }
 
-/// `gen forest` writes glTF (binary or JSON by the file name, JSON to
-/// stdout), which `info` reads back as the same instances as `gen:forest`;
+/// `gen forest` and `gen city` write glTF (binary or JSON by the file name,
+/// JSON to stdout), which `info` reads back as the same instances as
+/// `gen:forest` and `gen:city`;
 /// NFF, which has no instances, is refused, as is glTF for a scene of
 /// spheres on a polygon floor, each with nothing written.
 #[test]
-fn gen_forest_writes_gltf_that_reads_back_as_the_same_instances() {
+fn gen_writes_instanced_scenes_as_gltf_that_reads_back_as_the_same_instances() {
     let dir = Scratch::new("cli-gen-forest");
     let instancing = |scene: &str| {
         let o = raypack(&["info", scene, "--json"]);
@@ -254,28 +255,32 @@ fn gen_forest_writes_gltf_that_reads_back_as_the_same_instances() {
         let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         json["instancing"].clone()
     };
-    let expected = instancing("gen:forest:300:7");
-    assert_eq!(expected["instances"], 300, "{expected}");
-    for name in ["forest.glb", "forest.gltf"] {
-        let path = dir.path().join(name);
-        let o = raypack(&[
-            "gen",
-            "forest",
-            "--size",
-            "300",
-            "--seed",
-            "7",
-            "-o",
-            path.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let got = instancing(path.to_str().unwrap());
-        // The ground, the scene's own two triangles, reads back as one more
-        // instance of a mesh of its own.
-        assert_eq!(got["instances"], 301, "{name}: {got}");
-        assert_eq!(got["meshes"], 3, "{name}: {got}");
-        for count in ["unique_primitives", "instanced_primitives"] {
-            assert_eq!(got[count], expected[count], "{name}: {count}");
+    // Each instanced kind, with its meshes as `gen` makes them.
+    for (kind, instances, meshes) in [("forest", 300, 2), ("city", 120, 4)] {
+        let expected = instancing(&format!("gen:{kind}:{instances}:7"));
+        assert_eq!(expected["instances"], instances, "{expected}");
+        for name in [format!("{kind}.glb"), format!("{kind}.gltf")] {
+            let path = dir.path().join(&name);
+            let size = instances.to_string();
+            let o = raypack(&[
+                "gen",
+                kind,
+                "--size",
+                &size,
+                "--seed",
+                "7",
+                "-o",
+                path.to_str().unwrap(),
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            let got = instancing(path.to_str().unwrap());
+            // The ground, the scene's own two triangles, reads back as one more
+            // instance of a mesh of its own.
+            assert_eq!(got["instances"], instances + 1, "{name}: {got}");
+            assert_eq!(got["meshes"], meshes + 1, "{name}: {got}");
+            for count in ["unique_primitives", "instanced_primitives"] {
+                assert_eq!(got[count], expected[count], "{name}: {count}");
+            }
         }
     }
     let o = raypack(&["gen", "forest", "--size", "20"]);

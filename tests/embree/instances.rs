@@ -9,13 +9,14 @@ use raypack::accel::{Accel, Bvh, TwoLevel};
 use raypack::embree::{Device, EmbreeScene};
 use raypack::geometry::{Primitive, Sphere};
 use raypack::rng::Rng;
+use raypack::scene::generate::city::city;
 use raypack::scene::generate::forest::forest;
 use raypack::scene::generate::random::random_triangles;
 use raypack::scene::{Mesh, Scene};
 
 use crate::support::bvh::random_rays;
 
-/// A forest, and a scene of a triangle mesh and a sphere cloud placed under
+/// A forest, a city, and a scene of a triangle mesh and a sphere cloud placed under
 /// rotations and non-uniform scales (Embree's spheres are native shapes).
 fn scenes() -> Vec<Scene> {
     let mut rng = Rng::new(5);
@@ -43,7 +44,7 @@ fn scenes() -> Vec<Scene> {
                 .unwrap();
         }
     }
-    vec![forest(40, 3), mixed]
+    vec![forest(40, 3), city(36, 4), mixed]
 }
 
 #[test]

@@ -7,6 +7,7 @@ use glam::{Mat4, Quat, Vec3};
 use raypack::accel::{Bvh, TwoLevel};
 use raypack::render::{Block, KernelKind, Mode, Render, RenderSettings, Sampling, render};
 use raypack::scene::Scene;
+use raypack::scene::generate::city::city;
 use raypack::scene::generate::forest::forest;
 use raypack::scene::generate::test_scenes::from_spec;
 
@@ -66,7 +67,8 @@ fn differences(a: &Render, b: &Render) -> (usize, usize) {
     (prims, colours)
 }
 
-/// A forest (triangle meshes: rays keep their length in mesh space) and the
+/// A forest (triangle meshes: rays keep their length in mesh space), a city
+/// (quarter turns and stretched heights; its windows reflect), and the
 /// mixed test scene's primitives as one mesh placed four times (spheres,
 /// cones, polygons, transformed shapes: unit directions in mesh space).
 fn scenes() -> Vec<Scene> {
@@ -91,7 +93,7 @@ fn scenes() -> Vec<Scene> {
         height: 160,
         ..mixed.default_camera()
     });
-    vec![forest(60, 2), mixed]
+    vec![forest(60, 2), city(36, 4), mixed]
 }
 
 #[test]

@@ -22,8 +22,10 @@
 //! | `random-triangles` | triangle count | 10000 | `n` triangles |
 //! | `terrain` | subdivision level | 6 | `2·4^n` triangles (8192) |
 //! | `forest` | instance count | 1000 | `n` instances of 2 meshes (about 24,000 unique triangles) + 2 ground triangles |
+//! | `city` | instance count | 1000 | `n` instances of 4 towers (about 34,000 unique triangles) + 2 ground triangles |
 //!
-//! `forest` is instanced (its trees are copies of two meshes, [`forest`]): NFF
+//! `forest` and `city` are instanced (copies of a few meshes, [`forest`],
+//! [`city`]): NFF
 //! cannot hold instances, so it is written as glTF
 //! ([`gltf_writer`](crate::scene::gltf_writer)), as is any kind made of
 //! triangles only when the output file asks for `.glb` or `.gltf`.
@@ -37,6 +39,7 @@
 //! mountain's `--seed` is the SPD's mountain number. Each file starts with `#`
 //! comments saying what it is and the command that made it.
 
+pub mod city;
 pub mod closed_mesh;
 pub mod forest;
 mod gears;
@@ -104,11 +107,13 @@ pub enum Kind {
     Terrain,
     /// A forest of trees and rocks, instances of two meshes (glTF only: NFF has no instances).
     Forest,
+    /// A city of towers with recessed windows, instances of four meshes (glTF only).
+    City,
 }
 
 impl Kind {
     /// Every kind, in the order of the table above.
-    pub const ALL: [Kind; 14] = [
+    pub const ALL: [Kind; 15] = [
         Kind::Sphereflake,
         Kind::Tetra,
         Kind::FractalMountain,
@@ -123,6 +128,7 @@ impl Kind {
         Kind::RandomTriangles,
         Kind::Terrain,
         Kind::Forest,
+        Kind::City,
     ];
 
     /// The name on the command line.
@@ -142,6 +148,7 @@ impl Kind {
             Kind::RandomTriangles => "random-triangles",
             Kind::Terrain => "terrain",
             Kind::Forest => "forest",
+            Kind::City => "city",
         }
     }
 
@@ -169,7 +176,7 @@ impl Kind {
             Kind::RandomSpheres => "the number of spheres",
             Kind::RandomTriangles => "the number of triangles",
             Kind::Terrain => "the subdivision level",
-            Kind::Forest => "the number of instances",
+            Kind::Forest | Kind::City => "the number of instances",
             spd => {
                 debug_assert!(spd.is_spd());
                 "the SPD size factor"
@@ -193,6 +200,7 @@ impl Kind {
             Kind::RandomSpheres | Kind::RandomTriangles => 1..=MAX_COUNT,
             Kind::Terrain => 0..=10,
             Kind::Forest => 1..=forest::MAX_INSTANCES,
+            Kind::City => 1..=city::MAX_INSTANCES,
         }
     }
 
@@ -207,7 +215,7 @@ impl Kind {
             Kind::Jacks => 1,
             Kind::RandomSpheres | Kind::RandomTriangles => 10_000,
             Kind::Terrain => 6,
-            Kind::Forest => 1000,
+            Kind::Forest | Kind::City => 1000,
         }
     }
 
@@ -215,7 +223,9 @@ impl Kind {
     pub fn seeds(self) -> Option<RangeInclusive<u64>> {
         match self {
             Kind::FractalMountain => Some(0..=mountain::MAX_MOUNTAIN),
-            Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain | Kind::Forest => Some(0..=u64::MAX),
+            Kind::RandomSpheres | Kind::RandomTriangles | Kind::Terrain | Kind::Forest | Kind::City => {
+                Some(0..=u64::MAX)
+            }
             // Every other SPD scene is fixed.
             spd => {
                 debug_assert!(spd.is_spd());
@@ -227,7 +237,7 @@ impl Kind {
     /// Whether the scene is made of instances, which NFF cannot hold (it is
     /// written as glTF).
     pub fn is_instanced(self) -> bool {
-        self == Kind::Forest
+        matches!(self, Kind::Forest | Kind::City)
     }
 
     /// `--seed` when none is given.
@@ -328,7 +338,7 @@ impl Params {
             Kind::Jacks => jacks::primitive_count(self.size),
             Kind::RandomSpheres | Kind::RandomTriangles => u64::from(self.size),
             Kind::Terrain => terrain::primitive_count(self.size),
-            Kind::Forest => self.scene().id_count(),
+            Kind::Forest | Kind::City => self.scene().id_count(),
         }
     }
 
@@ -394,6 +404,9 @@ impl Params {
             Kind::Forest => format!(
                 "forest of {n} instances of 2 meshes (trees and rocks): {count} instanced triangles, seed {seed}, 1 light"
             ),
+            Kind::City => format!(
+                "city of {n} instances of 4 towers: {count} instanced triangles, seed {seed}, 1 light"
+            ),
         }
     }
 
@@ -433,7 +446,7 @@ impl Params {
             Kind::RandomSpheres => random_spheres::write(self.size, seed, &mut nff)?,
             Kind::RandomTriangles => random_triangles::write(self.size, seed, &mut nff)?,
             Kind::Terrain => terrain::write(self.size, seed, &mut nff)?,
-            Kind::Forest => unreachable!("refused above"),
+            Kind::Forest | Kind::City => unreachable!("refused above"),
         }
         debug_assert_eq!(nff.primitives(), self.primitive_count(), "{:?}", self);
         nff.finish()
@@ -453,6 +466,7 @@ impl Params {
     pub fn scene(&self) -> Scene {
         match self.kind {
             Kind::Forest => forest::forest(self.size as usize, self.seed.unwrap_or(DEFAULT_SEED)),
+            Kind::City => city::city(self.size as usize, self.seed.unwrap_or(DEFAULT_SEED)),
             _ => nff::parse(Path::new(&self.command()), self.to_nff().as_bytes())
                 .expect("the generators write NFF their reader takes"),
         }
