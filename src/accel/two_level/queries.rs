@@ -11,7 +11,7 @@ use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::{Simd8, SimdFloat};
+use crate::simd::{Simd8, SimdFloat, SimdU32};
 
 use super::bottom::{BottomLevel, blocked_packet, nearest_packet};
 use super::placed::Placed;
@@ -102,24 +102,30 @@ impl<B: BottomLevel> Instances<'_, B> {
     ) {
         let (local, s) = p.object_packet(rays, lanes, hits.t);
         let found = nearest_packet(&self.meshes[p.mesh as usize], &local, stats);
-        let mut candidates = (found.hit_mask() & local.active).bitmask();
-        if candidates == 0 {
+        let candidates = found.hit_mask() & local.active;
+        if candidates.none() {
             return;
         }
-        // Settle lane by lane: a packet meets few instances per lane, and the
-        // tie rule needs each lane's id.
-        let t = (found.t / s).to_array();
-        let t_min = rays.t_min.to_array();
-        while candidates != 0 {
-            let i = candidates.trailing_zeros() as usize;
-            candidates &= candidates - 1;
-            let (mut hit, mine) = (hits.hit(i), found.hit(i));
-            let (t, id) = (t.as_ref()[i], p.first_id + mine.prim);
-            if hit.accepts(t, t_min.as_ref()[i], id) {
-                hit = Hit { t, prim: id, ..mine };
-                hits.set_hit(i, &hit);
-            }
+        // Settle every lane at once by the tie rule ([`Hit::accepts`]): within
+        // `[t_min, hit t]` and finite, and on an equal t the lower scene id.
+        let t = found.t / s;
+        let mut ids = found.prim.to_array();
+        for id in ids.as_mut() {
+            *id = id.wrapping_add(p.first_id);
         }
+        let ids = F::U32::from_array(ids);
+        let nearer = t.lt(hits.t) | (t.eq(hits.t) & ids.lt(hits.prim));
+        let accept = candidates & t.ge(rays.t_min) & t.lt(F::splat(f32::INFINITY)) & nearer;
+        if accept.none() {
+            return;
+        }
+        hits.t = accept.select(t, hits.t);
+        hits.prim = F::U32::select(accept, ids, hits.prim);
+        hits.u = accept.select(found.u, hits.u);
+        hits.v = accept.select(found.v, hits.v);
+        hits.ng.x = accept.select(found.ng.x, hits.ng.x);
+        hits.ng.y = accept.select(found.ng.y, hits.ng.y);
+        hits.ng.z = accept.select(found.ng.z, hits.ng.z);
     }
 }
 
