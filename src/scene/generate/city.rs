@@ -14,6 +14,7 @@ use glam::{Mat4, Quat, Vec3};
 
 use crate::geometry::{Primitive, Triangle};
 use crate::rng::Rng;
+use crate::scene::generate::lots::{Lots, diffuse};
 use crate::scene::{CameraSpec, Light, Material, Mesh, Scene};
 
 /// Most instances `raypack gen city` makes: with every one the largest tower
@@ -61,22 +62,13 @@ pub fn city(n: usize, seed: u64) -> Scene {
         ],
         ..Scene::default()
     };
-    let side = (n as f32).sqrt().ceil().max(1.0);
-    let extent = side * SPACING;
-    // The ground: two triangles under the whole grid.
-    let corner = |x: f32, z: f32| Vec3::new(x, 0.0, z);
-    let (lo, hi) = (-SPACING, extent);
-    for t in [
-        Triangle::new(corner(lo, lo), corner(lo, hi), corner(hi, lo)),
-        Triangle::new(corner(hi, lo), corner(lo, hi), corner(hi, hi)),
-    ] {
-        scene.push(Primitive::Triangle(t), GROUND);
-    }
+    let lots = Lots::new(n, SPACING);
+    let extent = lots.extent;
+    lots.push_ground(&mut scene, GROUND);
     let towers: Vec<u32> = (0..TOWERS.len()).map(|k| scene.add_mesh(tower(k))).collect();
     for k in 0..n {
-        let (i, j) = ((k % side as usize) as f32, (k / side as usize) as f32);
         let jitter = Vec3::new(rng.range(-2.0, 2.0), 0.0, rng.range(-2.0, 2.0));
-        let at = Vec3::new(i * SPACING, 0.0, j * SPACING) + jitter;
+        let at = lots.centre(k) + jitter;
         let turn = Quat::from_rotation_y(FRAC_PI_2 * rng.below(4) as f32);
         let stretch = Vec3::new(1.0, rng.range(0.8, 1.25), 1.0);
         let mesh = towers[rng.below(TOWERS.len() as u32) as usize];
@@ -100,14 +92,6 @@ pub fn city(n: usize, seed: u64) -> Scene {
         height: 512,
     });
     scene
-}
-
-/// A diffuse material of `color`.
-fn diffuse(color: Vec3) -> Material {
-    Material {
-        color,
-        ..Material::default()
-    }
 }
 
 /// Tower `k` of [`TOWERS`]: four facades of recessed windows and a flat

@@ -10,9 +10,10 @@ use glam::{Mat4, Quat, Vec3};
 
 use crate::geometry::{Primitive, Triangle};
 use crate::rng::Rng;
+use crate::scene::generate::lots::{Lots, diffuse};
 use crate::scene::generate::random::bumpy_sphere;
 use crate::scene::instance::placed_primitive;
-use crate::scene::{CameraSpec, Light, Material, Mesh, Scene};
+use crate::scene::{CameraSpec, Light, Mesh, Scene};
 
 /// Triangles of a tree's canopy (a sphere).
 const CANOPY_TRIANGLES: usize = 20_000;
@@ -38,32 +39,21 @@ pub fn forest(n: usize, seed: u64) -> Scene {
         source: format!("generated:forest:{n}:{seed}"),
         background: Vec3::new(0.55, 0.7, 0.9),
         materials: vec![
-            material(Vec3::new(0.45, 0.4, 0.3)),
-            material(Vec3::new(0.2, 0.55, 0.2)),
-            material(Vec3::new(0.4, 0.28, 0.15)),
-            material(Vec3::new(0.55, 0.55, 0.55)),
+            diffuse(Vec3::new(0.45, 0.4, 0.3)),
+            diffuse(Vec3::new(0.2, 0.55, 0.2)),
+            diffuse(Vec3::new(0.4, 0.28, 0.15)),
+            diffuse(Vec3::new(0.55, 0.55, 0.55)),
         ],
         ..Scene::default()
     };
-    let side = (n as f32).sqrt().ceil().max(1.0);
-    let extent = side * SPACING;
-    // The ground: two triangles under the whole grid, material 0.
-    let corner = |x: f32, z: f32| Vec3::new(x, 0.0, z);
-    let (lo, hi) = (-SPACING, extent);
-    scene.push(
-        Primitive::Triangle(Triangle::new(corner(lo, lo), corner(lo, hi), corner(hi, lo))),
-        0,
-    );
-    scene.push(
-        Primitive::Triangle(Triangle::new(corner(hi, lo), corner(lo, hi), corner(hi, hi))),
-        0,
-    );
+    let lots = Lots::new(n, SPACING);
+    let extent = lots.extent;
+    lots.push_ground(&mut scene, 0);
     let tree = scene.add_mesh(tree_mesh());
     let rock = scene.add_mesh(mesh("rock", sphere(0.8, Vec3::ZERO, ROCK_TRIANGLES, seed), 3));
     for k in 0..n {
-        let (i, j) = ((k % side as usize) as f32, (k / side as usize) as f32);
         let jitter = Vec3::new(rng.range(-1.0, 1.0), 0.0, rng.range(-1.0, 1.0));
-        let at = Vec3::new(i * SPACING, 0.0, j * SPACING) + jitter;
+        let at = lots.centre(k) + jitter;
         let turn = Quat::from_rotation_y(rng.range(0.0, TAU));
         let size = rng.range(0.7, 1.3);
         let (mesh, scale) = if rng.below(8) == 0 {
@@ -99,14 +89,6 @@ fn sphere(radius: f32, center: Vec3, n: usize, seed: u64) -> Vec<Primitive> {
         .iter()
         .map(|p| placed_primitive(p, m).expect("a scale and a translation"))
         .collect()
-}
-
-/// A diffuse material of `color`.
-fn material(color: Vec3) -> Material {
-    Material {
-        color,
-        ..Material::default()
-    }
 }
 
 /// A mesh of `prims`, all of material `material`.

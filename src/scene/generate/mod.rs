@@ -45,6 +45,7 @@ pub mod forest;
 mod gears;
 mod jacks;
 mod lattice;
+mod lots;
 mod mountain;
 pub mod nff_writer;
 pub mod random;
