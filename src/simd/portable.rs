@@ -110,6 +110,22 @@ macro_rules! impl_simd_float {
                 }
             }
             #[inline(always)]
+            fn max_bits(self, rhs: Self) -> Self {
+                let (mut a, b) = (self.to_array(), rhs.to_array());
+                for (x, y) in a.iter_mut().zip(b) {
+                    *x = crate::simd::max_bits(*x, y);
+                }
+                $f::new(a)
+            }
+            #[inline(always)]
+            fn min_bits(self, rhs: Self) -> Self {
+                let (mut a, b) = (self.to_array(), rhs.to_array());
+                for (x, y) in a.iter_mut().zip(b) {
+                    *x = crate::simd::min_bits(*x, y);
+                }
+                $f::new(a)
+            }
+            #[inline(always)]
             fn all_true() -> Self {
                 $f::splat(f32::from_bits(u32::MAX))
             }

@@ -36,6 +36,7 @@ macro_rules! x86_lanes {
                lt: $lt:path, le: $le:path, gt: $gt:path, ge: $ge:path, eq: $eq:path, ne: $ne:path,
                unordered: $unord:path, blend: $blend:path, movemask: $movemask:path,
                sqrt: $sqrt:path, min: $min:path, max: $max:path,
+               min_bits: $imin:path, max_bits: $imax:path,
                to_int: $to_int:path, from_int: $from_int:path },
         u32: { splat: $usplat:path, load: $uload:path, store: $ustore:path,
                lt: $ult:path, blend: $ublend:path, from_bits: $from_bits:path }
@@ -191,6 +192,16 @@ macro_rules! x86_lanes {
                 Self(unsafe { $max(self.0, rhs.0) })
             }
             #[inline(always)]
+            fn max_bits(self, rhs: Self) -> Self {
+                // SAFETY: the instruction set is present.
+                Self(unsafe { $from_int($imax($to_int(self.0), $to_int(rhs.0))) })
+            }
+            #[inline(always)]
+            fn min_bits(self, rhs: Self) -> Self {
+                // SAFETY: the instruction set is present.
+                Self(unsafe { $from_int($imin($to_int(self.0), $to_int(rhs.0))) })
+            }
+            #[inline(always)]
             fn all_true() -> Self {
                 Self::splat(f32::from_bits(u32::MAX))
             }
@@ -290,6 +301,7 @@ x86_lanes!(
            eq: _mm_cmpeq_ps, ne: _mm_cmpneq_ps, unordered: _mm_cmpunord_ps,
            blend: _mm_blendv_ps, movemask: sse_movemask,
            sqrt: _mm_sqrt_ps, min: _mm_min_ps, max: _mm_max_ps,
+           min_bits: _mm_min_epi32, max_bits: _mm_max_epi32,
            to_int: _mm_castps_si128, from_int: _mm_castsi128_ps },
     u32: { splat: _mm_set1_epi32, load: _mm_loadu_si128, store: _mm_storeu_si128,
            lt: sse_lt_epu32, blend: _mm_blendv_epi8, from_bits: sse_bits_to_lanes }
@@ -436,6 +448,14 @@ macro_rules! pair_lanes {
                 self.both(rhs, $half::fast_max)
             }
             #[inline(always)]
+            fn max_bits(self, rhs: Self) -> Self {
+                self.both(rhs, $half::max_bits)
+            }
+            #[inline(always)]
+            fn min_bits(self, rhs: Self) -> Self {
+                self.both(rhs, $half::min_bits)
+            }
+            #[inline(always)]
             fn all_true() -> Self {
                 Self { lo: $half::all_true(), hi: $half::all_true() }
             }
@@ -567,6 +587,7 @@ macro_rules! avx256_lanes {
                    lt: $lt, le: $le, gt: $gt, ge: $ge, eq: $eq, ne: $ne,
                    unordered: $unord, blend: _mm256_blendv_ps, movemask: $movemask,
                    sqrt: _mm256_sqrt_ps, min: _mm256_min_ps, max: _mm256_max_ps,
+                   min_bits: _mm256_min_epi32, max_bits: _mm256_max_epi32,
                    to_int: _mm256_castps_si256, from_int: _mm256_castsi256_ps },
             u32: { splat: _mm256_set1_epi32, load: _mm256_loadu_si256, store: _mm256_storeu_si256,
                    lt: $ult, blend: _mm256_blendv_epi8, from_bits: $from_bits }
@@ -661,6 +682,7 @@ x86_lanes!(
            lt: avx512_lt, le: avx512_le, gt: avx512_gt, ge: avx512_ge, eq: avx512_eq, ne: avx512_ne,
            unordered: avx512_unordered, blend: avx512_blend, movemask: avx512_movemask,
            sqrt: _mm512_sqrt_ps, min: _mm512_min_ps, max: _mm512_max_ps,
+           min_bits: _mm512_min_epi32, max_bits: _mm512_max_epi32,
            to_int: _mm512_castps_si512, from_int: _mm512_castsi512_ps },
     u32: { splat: _mm512_set1_epi32, load: avx512_load_epi32, store: avx512_store_epi32,
            lt: avx512_lt_epu32, blend: avx512_blend_epi32, from_bits: avx512_bits_to_lanes }

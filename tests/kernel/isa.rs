@@ -76,6 +76,8 @@ fn agrees<W: SimdFloat, X: SimdFloat>() {
         same(wa.max(wb), xa.max(xb), "max");
         same(wa.fast_min(wb), xa.fast_min(xb), "fast_min");
         same(wa.fast_max(wb), xa.fast_max(xb), "fast_max");
+        same(wa.min_bits(wb), xa.min_bits(xb), "min_bits");
+        same(wa.max_bits(wb), xa.max_bits(xb), "max_bits");
         same(W::all_true(), X::all_true(), "all_true");
         same(W::splat(a.as_ref()[0]), X::splat(a.as_ref()[0]), "splat");
         same(wm, xm, "mask_from_bits");

@@ -10,6 +10,16 @@
 //!   chain is written `candidate.fast_max(accumulator)` so a NaN candidate is
 //!   ignored (x86 `maxps` semantics, see [`SimdFloat::fast_max`]): a ray lying in
 //!   a face counts as inside that slab;
+//! - a ray whose products cannot be NaN (finite origin, every direction
+//!   component finite and normal, `t_min ≥ 0`: [`SlabRay::is_finite`], nearly
+//!   every ray) combines its slabs by integer min/max of the bits instead
+//!   ([`SimdFloat::max_bits`]: one cycle a step where `maxps` takes four on
+//!   Intel cores, as Embree does). The entry is then the same number: its floor
+//!   `t_min ≥ 0` outranks every negative candidate either way. The exit is the
+//!   same wherever it is ≥ +0; where a candidate is negative both are below
+//!   the entry (a miss), but for an exit at `−0` against an entry of `+0`,
+//!   which the integer chain may keep where the float chain drops it (a box
+//!   touched at t = 0 from behind: kept, never lost);
 //! - the exit is scaled by [`FAR_SCALE`] (Ize, "Robust BVH ray traversal", JCGT
 //!   2013), so rounding never culls a box the ray touches. The scale is folded
 //!   into a second reciprocal used for exit planes (`(o − max)·(−s/d)`), which
@@ -36,7 +46,7 @@ use glam::Vec3;
 use crate::accel::bvh::node::Node;
 use crate::packet::RayPacket;
 use crate::ray::Ray;
-use crate::simd::{SimdFloat, V3};
+use crate::simd::{SimdFloat, V3, max_bits, min_bits};
 
 /// Scale of the slab exit: `1 + 2⁻¹⁹`, a margin of about 32 ulps of t.
 pub const FAR_SCALE: f32 = 1.0 + 1.0 / 524_288.0;
@@ -72,10 +82,13 @@ pub struct SlabRay {
     pub origin: Vec3,
     /// Negated reciprocal direction `−1/d`; zero and subnormal components give `−∞`.
     pub neg_inv_dir: Vec3,
-    /// `neg_inv_dir · FAR_SCALE`, for exit planes.
-    pub neg_inv_dir_far: Vec3,
+    /// `FAR_SCALE / d` (not negated), for exit planes.
+    pub inv_dir_far: Vec3,
     /// Smallest accepted t.
     pub t_min: f32,
+    /// Whether no slab product can be NaN, so entry and exit are combined by
+    /// integer min/max ([`SlabRay::is_finite`]).
+    pub finite: bool,
     /// Per axis: 0 when the ray enters through the `min` plane (`1/d ≥ 0`), 1 through `max`.
     entry_corner: [usize; 3],
 }
@@ -92,10 +105,26 @@ impl SlabRay {
         Self {
             origin: ray.origin,
             neg_inv_dir: -inv_dir,
-            neg_inv_dir_far: -inv_dir * FAR_SCALE,
+            inv_dir_far: inv_dir * FAR_SCALE,
             t_min: ray.t_min,
+            finite: Self::is_finite(ray),
             entry_corner: [0, 1, 2].map(|k| usize::from(inv_dir[k] < 0.0)),
         }
+    }
+
+    /// Whether `ray`'s slab products are never NaN and its entries floor at
+    /// +0: a finite origin, every direction component finite and normal (so
+    /// every reciprocal is finite and not zero) and `t_min ≥ 0`. Then entry
+    /// and exit are combined by integer min/max of their bits, exactly as the
+    /// float chain would (module docs).
+    #[inline(always)]
+    pub fn is_finite(ray: &Ray) -> bool {
+        let normal = |d: f32| d.abs() >= f32::MIN_POSITIVE && d.is_finite();
+        ray.origin.is_finite()
+            && normal(ray.dir.x)
+            && normal(ray.dir.y)
+            && normal(ray.dir.z)
+            && ray.t_min >= 0.0
     }
 
     /// The entry t of the non-empty box `[min, max]` if the ray meets it within
@@ -105,9 +134,20 @@ impl SlabRay {
         let corners = [min, max];
         let plane = |corner: usize, k: usize| self.origin[k] - corners[corner][k];
         let near = |k: usize| plane(self.entry_corner[k], k) * self.neg_inv_dir[k];
-        let far = |k: usize| plane(1 - self.entry_corner[k], k) * self.neg_inv_dir_far[k];
-        let t_near = fast_max(near(0), fast_max(near(1), fast_max(near(2), self.t_min)));
-        let t_far = fast_min(far(0), fast_min(far(1), fast_min(far(2), t_max * FAR_SCALE)));
+        let far = |k: usize| -(plane(1 - self.entry_corner[k], k) * self.inv_dir_far[k]);
+        let (t_near, t_far) = if self.finite {
+            let t_near = max_bits(near(0), max_bits(near(1), max_bits(near(2), self.t_min)));
+            (
+                t_near,
+                min_bits(far(0), min_bits(far(1), min_bits(far(2), t_max * FAR_SCALE))),
+            )
+        } else {
+            let t_near = fast_max(near(0), fast_max(near(1), fast_max(near(2), self.t_min)));
+            (
+                t_near,
+                fast_min(far(0), fast_min(far(1), fast_min(far(2), t_max * FAR_SCALE))),
+            )
+        };
         (t_near <= t_far).then_some(t_near)
     }
 
@@ -131,12 +171,16 @@ pub struct SlabPacket<F: SimdFloat> {
     pub origin: V3<F>,
     /// Negated reciprocal directions `−1/d`; zero and subnormal components give `−∞`.
     pub neg_inv_dir: V3<F>,
-    /// `neg_inv_dir · FAR_SCALE`, for exit planes.
-    pub neg_inv_dir_far: V3<F>,
+    /// `FAR_SCALE / d` (not negated), for exit planes.
+    pub inv_dir_far: V3<F>,
     /// Per axis, the lanes entering boxes through their `max` plane (`1/d < 0`).
     enters_max: V3<F>,
     /// Smallest accepted t per lane.
     pub t_min: F,
+    /// The lanes whose slab products are never NaN ([`SlabRay::is_finite`]).
+    finite: F,
+    /// Whether every active lane is: then the whole packet combines by integer min/max.
+    all_finite: bool,
 }
 
 impl<F: SimdFloat> SlabPacket<F> {
@@ -148,7 +192,16 @@ impl<F: SimdFloat> SlabPacket<F> {
             y: Self::inverse(rays.dir.y),
             z: Self::inverse(rays.dir.z),
         };
-        let (minus, scale) = (F::splat(-1.0), F::splat(-FAR_SCALE));
+        let (minus, scale) = (F::splat(-1.0), F::splat(FAR_SCALE));
+        // Lane by lane `SlabRay::is_finite` (comparisons with NaN are false).
+        let (o, d) = (&rays.origin, &rays.dir);
+        let finite = Self::normal(d.x)
+            & Self::normal(d.y)
+            & Self::normal(d.z)
+            & Self::finite_lanes(o.x)
+            & Self::finite_lanes(o.y)
+            & Self::finite_lanes(o.z)
+            & rays.t_min.ge(F::splat(0.0));
         Self {
             origin: rays.origin,
             neg_inv_dir: V3 {
@@ -156,7 +209,7 @@ impl<F: SimdFloat> SlabPacket<F> {
                 y: inv_dir.y * minus,
                 z: inv_dir.z * minus,
             },
-            neg_inv_dir_far: V3 {
+            inv_dir_far: V3 {
                 x: inv_dir.x * scale,
                 y: inv_dir.y * scale,
                 z: inv_dir.z * scale,
@@ -167,6 +220,8 @@ impl<F: SimdFloat> SlabPacket<F> {
                 z: inv_dir.z.lt(F::splat(0.0)),
             },
             t_min: rays.t_min,
+            finite,
+            all_finite: rays.active.and_not(finite).none(),
         }
     }
 
@@ -174,12 +229,21 @@ impl<F: SimdFloat> SlabPacket<F> {
     /// and every lane's entry t (meaningful in the mask's lanes).
     #[inline(always)]
     pub fn entry(&self, min: Vec3, max: Vec3, t_max: F) -> (F, F) {
-        let (i, f, m) = (&self.neg_inv_dir, &self.neg_inv_dir_far, &self.enters_max);
+        let (i, f, m) = (&self.neg_inv_dir, &self.inv_dir_far, &self.enters_max);
         let (nx, fx) = Self::slab(min.x, max.x, self.origin.x, i.x, f.x, m.x);
         let (ny, fy) = Self::slab(min.y, max.y, self.origin.y, i.y, f.y, m.y);
         let (nz, fz) = Self::slab(min.z, max.z, self.origin.z, i.z, f.z, m.z);
-        let t_near = nx.fast_max(ny.fast_max(nz.fast_max(self.t_min)));
-        let t_far = fx.fast_min(fy.fast_min(fz.fast_min(t_max * F::splat(FAR_SCALE))));
+        let t_max = t_max * F::splat(FAR_SCALE);
+        let t_near = nx.max_bits(ny.max_bits(nz.max_bits(self.t_min)));
+        let t_far = fx.min_bits(fy.min_bits(fz.min_bits(t_max)));
+        if self.all_finite {
+            return (t_near.le(t_far), t_near);
+        }
+        // Lanes where a product may be NaN take the float chain, which ignores it.
+        let float_near = nx.fast_max(ny.fast_max(nz.fast_max(self.t_min)));
+        let float_far = fx.fast_min(fy.fast_min(fz.fast_min(t_max)));
+        let t_near = self.finite.select(t_near, float_near);
+        let t_far = self.finite.select(t_far, float_far);
         (t_near.le(t_far), t_near)
     }
 
@@ -192,13 +256,25 @@ impl<F: SimdFloat> SlabPacket<F> {
         tiny.select(F::splat(f32::INFINITY), F::splat(1.0) / d)
     }
 
+    /// The lanes of `d` that are finite and normal (their reciprocals finite, not zero).
+    #[inline(always)]
+    fn normal(d: F) -> F {
+        d.abs().ge(F::splat(f32::MIN_POSITIVE)) & Self::finite_lanes(d)
+    }
+
+    /// The finite lanes of `x`.
+    #[inline(always)]
+    fn finite_lanes(x: F) -> F {
+        x.abs().lt(F::splat(f32::INFINITY))
+    }
+
     /// One axis's entry and exit t per lane: the planes picked by the sign of
     /// `1/d`, as the single ray picks them.
     #[inline(always)]
-    fn slab(lo: f32, hi: f32, o: F, neg_inv: F, neg_inv_far: F, enters_max: F) -> (F, F) {
+    fn slab(lo: f32, hi: f32, o: F, neg_inv: F, inv_far: F, enters_max: F) -> (F, F) {
         let (lo, hi) = (F::splat(lo), F::splat(hi));
         let near = (o - enters_max.select(hi, lo)) * neg_inv;
-        let far = (o - enters_max.select(lo, hi)) * neg_inv_far;
+        let far = -((o - enters_max.select(lo, hi)) * inv_far);
         (near, far)
     }
 
