@@ -12,26 +12,20 @@ fn raypack() -> Command {
     Command::new(env!("CARGO_BIN_EXE_raypack"))
 }
 
-#[test]
-fn check_reports_agreement_and_exits_by_the_bars() {
+/// The JSON report of `check SCENE` on `n` random rays and primary rays of
+/// `size`, which must pass its bars.
+fn check_json(scene: &str, n: usize, size: &str) -> serde_json::Value {
     let output = raypack()
-        .args([
-            "check",
-            "gen:mixed:200:7",
-            "--n",
-            "20000",
-            "--size",
-            "96x64",
-            "--json",
-        ])
+        .args(["check", scene, "--n", &n.to_string(), "--size", size, "--json"])
         .output()
         .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    serde_json::from_slice(&output.stdout).unwrap()
+}
+
+#[test]
+fn check_reports_agreement_and_exits_by_the_bars() {
+    let report = check_json("gen:mixed:200:7", 20000, "96x64");
     let sets = report["sets"].as_array().unwrap();
     assert_eq!(sets.len(), 2);
     assert_eq!(sets[0]["count"], 96 * 64);
@@ -75,24 +69,7 @@ fn check_reports_agreement_and_exits_by_the_bars() {
 /// one at a time (flattened, the scene is too large to make).
 #[test]
 fn check_compares_instances_without_flattening_the_scene() {
-    let output = raypack()
-        .args([
-            "check",
-            "gen:forest:56000",
-            "--n",
-            "20000",
-            "--size",
-            "64x64",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        output.status.success(),
-        "{}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    let report: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let report = check_json("gen:forest:56000", 20000, "64x64");
     for set in report["sets"].as_array().unwrap() {
         assert!(set["hit_agreement"].as_f64().unwrap() >= 0.9999, "{set}");
         assert!(set["agreement"]["same_primitive"].as_u64().unwrap() > 0, "{set}");

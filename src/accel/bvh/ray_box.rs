@@ -82,8 +82,8 @@ pub struct SlabRay {
     pub origin: Vec3,
     /// Negated reciprocal direction `−1/d`; zero and subnormal components give `−∞`.
     pub neg_inv_dir: Vec3,
-    /// `FAR_SCALE / d` (not negated), for exit planes.
-    pub inv_dir_far: Vec3,
+    /// `−FAR_SCALE / d`, for exit planes.
+    pub neg_inv_dir_far: Vec3,
     /// Smallest accepted t.
     pub t_min: f32,
     /// Whether no slab product can be NaN, so entry and exit are combined by
@@ -105,7 +105,7 @@ impl SlabRay {
         Self {
             origin: ray.origin,
             neg_inv_dir: -inv_dir,
-            inv_dir_far: inv_dir * FAR_SCALE,
+            neg_inv_dir_far: inv_dir * -FAR_SCALE,
             t_min: ray.t_min,
             finite: Self::is_finite(ray),
             entry_corner: [0, 1, 2].map(|k| usize::from(inv_dir[k] < 0.0)),
@@ -134,7 +134,7 @@ impl SlabRay {
         let corners = [min, max];
         let plane = |corner: usize, k: usize| self.origin[k] - corners[corner][k];
         let near = |k: usize| plane(self.entry_corner[k], k) * self.neg_inv_dir[k];
-        let far = |k: usize| -(plane(1 - self.entry_corner[k], k) * self.inv_dir_far[k]);
+        let far = |k: usize| plane(1 - self.entry_corner[k], k) * self.neg_inv_dir_far[k];
         let (t_near, t_far) = if self.finite {
             let t_near = max_bits(near(0), max_bits(near(1), max_bits(near(2), self.t_min)));
             (
@@ -164,6 +164,30 @@ impl SlabRay {
     }
 }
 
+/// A box's entry and exit t from its three slabs' (`near`, `far`, per axis)
+/// and the ray's `[t_min, t_max]`, combined by integer min/max of the bits:
+/// for rays whose products cannot be NaN ([`SlabRay::is_finite`]), lane by
+/// lane what [`combine_ignoring_nan`] gives but for the sign of a zero exit
+/// (module docs). Packets and wide nodes share it; the scalar twin is in
+/// [`SlabRay::entry`].
+#[inline(always)]
+pub fn combine_by_bits<F: SimdFloat>(near: [F; 3], far: [F; 3], t_min: F, t_max: F) -> (F, F) {
+    (
+        near[0].max_bits(near[1].max_bits(near[2].max_bits(t_min))),
+        far[0].min_bits(far[1].min_bits(far[2].min_bits(t_max))),
+    )
+}
+
+/// [`combine_by_bits`] by float min/max written so that a NaN candidate is
+/// ignored ([`SimdFloat::fast_max`]): for every ray.
+#[inline(always)]
+pub fn combine_ignoring_nan<F: SimdFloat>(near: [F; 3], far: [F; 3], t_min: F, t_max: F) -> (F, F) {
+    (
+        near[0].fast_max(near[1].fast_max(near[2].fast_max(t_min))),
+        far[0].fast_min(far[1].fast_min(far[2].fast_min(t_max))),
+    )
+}
+
 /// A ray packet prepared for slab tests. For `f32x8`: 13 vectors = 416 bytes.
 #[derive(Clone, Copy, Debug)]
 pub struct SlabPacket<F: SimdFloat> {
@@ -171,8 +195,8 @@ pub struct SlabPacket<F: SimdFloat> {
     pub origin: V3<F>,
     /// Negated reciprocal directions `−1/d`; zero and subnormal components give `−∞`.
     pub neg_inv_dir: V3<F>,
-    /// `FAR_SCALE / d` (not negated), for exit planes.
-    pub inv_dir_far: V3<F>,
+    /// `−FAR_SCALE / d`, for exit planes.
+    pub neg_inv_dir_far: V3<F>,
     /// Per axis, the lanes entering boxes through their `max` plane (`1/d < 0`).
     enters_max: V3<F>,
     /// Smallest accepted t per lane.
@@ -192,7 +216,7 @@ impl<F: SimdFloat> SlabPacket<F> {
             y: Self::inverse(rays.dir.y),
             z: Self::inverse(rays.dir.z),
         };
-        let (minus, scale) = (F::splat(-1.0), F::splat(FAR_SCALE));
+        let (minus, scale) = (F::splat(-1.0), F::splat(-FAR_SCALE));
         // Lane by lane `SlabRay::is_finite` (comparisons with NaN are false).
         let (o, d) = (&rays.origin, &rays.dir);
         let finite = Self::normal(d.x)
@@ -209,7 +233,7 @@ impl<F: SimdFloat> SlabPacket<F> {
                 y: inv_dir.y * minus,
                 z: inv_dir.z * minus,
             },
-            inv_dir_far: V3 {
+            neg_inv_dir_far: V3 {
                 x: inv_dir.x * scale,
                 y: inv_dir.y * scale,
                 z: inv_dir.z * scale,
@@ -229,19 +253,18 @@ impl<F: SimdFloat> SlabPacket<F> {
     /// and every lane's entry t (meaningful in the mask's lanes).
     #[inline(always)]
     pub fn entry(&self, min: Vec3, max: Vec3, t_max: F) -> (F, F) {
-        let (i, f, m) = (&self.neg_inv_dir, &self.inv_dir_far, &self.enters_max);
+        let (i, f, m) = (&self.neg_inv_dir, &self.neg_inv_dir_far, &self.enters_max);
         let (nx, fx) = Self::slab(min.x, max.x, self.origin.x, i.x, f.x, m.x);
         let (ny, fy) = Self::slab(min.y, max.y, self.origin.y, i.y, f.y, m.y);
         let (nz, fz) = Self::slab(min.z, max.z, self.origin.z, i.z, f.z, m.z);
+        let (near, far) = ([nx, ny, nz], [fx, fy, fz]);
         let t_max = t_max * F::splat(FAR_SCALE);
-        let t_near = nx.max_bits(ny.max_bits(nz.max_bits(self.t_min)));
-        let t_far = fx.min_bits(fy.min_bits(fz.min_bits(t_max)));
+        let (t_near, t_far) = combine_by_bits(near, far, self.t_min, t_max);
         if self.all_finite {
             return (t_near.le(t_far), t_near);
         }
         // Lanes where a product may be NaN take the float chain, which ignores it.
-        let float_near = nx.fast_max(ny.fast_max(nz.fast_max(self.t_min)));
-        let float_far = fx.fast_min(fy.fast_min(fz.fast_min(t_max)));
+        let (float_near, float_far) = combine_ignoring_nan(near, far, self.t_min, t_max);
         let t_near = self.finite.select(t_near, float_near);
         let t_far = self.finite.select(t_far, float_far);
         (t_near.le(t_far), t_near)
@@ -271,10 +294,10 @@ impl<F: SimdFloat> SlabPacket<F> {
     /// One axis's entry and exit t per lane: the planes picked by the sign of
     /// `1/d`, as the single ray picks them.
     #[inline(always)]
-    fn slab(lo: f32, hi: f32, o: F, neg_inv: F, inv_far: F, enters_max: F) -> (F, F) {
+    fn slab(lo: f32, hi: f32, o: F, neg_inv: F, neg_inv_far: F, enters_max: F) -> (F, F) {
         let (lo, hi) = (F::splat(lo), F::splat(hi));
         let near = (o - enters_max.select(hi, lo)) * neg_inv;
-        let far = -((o - enters_max.select(lo, hi)) * inv_far);
+        let far = (o - enters_max.select(lo, hi)) * neg_inv_far;
         (near, far)
     }
 

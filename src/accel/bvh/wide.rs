@@ -24,7 +24,7 @@
 use crate::accel::bvh::build_sah::MAX_DEPTH;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::node::{NodeId, NodePair, ROOT, node_in};
-use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay};
+use crate::accel::bvh::ray_box::{FAR_SCALE, SlabRay, combine_by_bits, combine_ignoring_nan};
 use crate::accel::bvh::stack::WIDE_STACK_SLOTS;
 use crate::bounds::Aabb;
 use crate::simd::{SimdFloat, SimdU32};
@@ -183,15 +183,9 @@ impl<F: SimdFloat> WideNodeOf<F> {
             // Integer min/max where no product can be NaN (a 1-cycle chain
             // where float min/max take 4 on Intel cores), else the float chain.
             let (t_near, t_far) = if ray.finite {
-                (
-                    near[0].max_bits(near[1].max_bits(near[2].max_bits(t_min))),
-                    far[0].min_bits(far[1].min_bits(far[2].min_bits(t_max))),
-                )
+                combine_by_bits(near, far, t_min, t_max)
             } else {
-                (
-                    near[0].fast_max(near[1].fast_max(near[2].fast_max(t_min))),
-                    far[0].fast_min(far[1].fast_min(far[2].fast_min(t_max))),
-                )
+                combine_ignoring_nan(near, far, t_min, t_max)
             };
             bits |= t_near.le(t_far).bitmask() << lanes.start;
             t.as_mut()[lanes].copy_from_slice(t_near.to_array().as_ref());
@@ -225,8 +219,8 @@ impl<F: SimdFloat> WideNodeOf<F> {
     /// Per child of part `part`, the t at which `ray` leaves the slab of `axis` (scaled up).
     #[inline(always)]
     fn far<N: SimdFloat>(&self, ray: &SlabRay, axis: usize, part: usize) -> N {
-        -(self.plane::<N>(ray, axis, (ray.entry_corner(axis) ^ 1) & 1, part)
-            * N::splat(ray.inv_dir_far[axis]))
+        self.plane::<N>(ray, axis, (ray.entry_corner(axis) ^ 1) & 1, part)
+            * N::splat(ray.neg_inv_dir_far[axis])
     }
 }
 
