@@ -216,7 +216,7 @@ impl<F: SimdFloat> SlabPacket<F> {
             y: Self::inverse(rays.dir.y),
             z: Self::inverse(rays.dir.z),
         };
-        let (minus, scale) = (F::splat(-1.0), F::splat(-FAR_SCALE));
+        let (minus, neg_scale) = (F::splat(-1.0), F::splat(-FAR_SCALE));
         // Lane by lane `SlabRay::is_finite` (comparisons with NaN are false).
         let (o, d) = (&rays.origin, &rays.dir);
         let finite = Self::normal(d.x)
@@ -234,9 +234,9 @@ impl<F: SimdFloat> SlabPacket<F> {
                 z: inv_dir.z * minus,
             },
             neg_inv_dir_far: V3 {
-                x: inv_dir.x * scale,
-                y: inv_dir.y * scale,
-                z: inv_dir.z * scale,
+                x: inv_dir.x * neg_scale,
+                y: inv_dir.y * neg_scale,
+                z: inv_dir.z * neg_scale,
             },
             enters_max: V3 {
                 x: inv_dir.x.lt(F::splat(0.0)),
