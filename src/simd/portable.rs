@@ -8,6 +8,16 @@ use wide::{f32x4, f32x8, f32x16, u32x4, u32x8, u32x16};
 
 use crate::simd::{SimdFloat, SimdU32};
 
+/// `op` of `a` and `b` lane by lane: the scalar rule of an operation the
+/// portable lanes have no instruction for.
+#[inline(always)]
+fn lanewise<const N: usize>(mut a: [f32; N], b: [f32; N], op: impl Fn(f32, f32) -> f32) -> [f32; N] {
+    for (x, y) in a.iter_mut().zip(b) {
+        *x = op(*x, y);
+    }
+    a
+}
+
 macro_rules! impl_simd_float {
     ($f:ident, $u:ident, $n:literal) => {
         // SAFETY: `wide`'s vectors are `$n` plain f32 (u32) lanes in lane order.
@@ -111,19 +121,19 @@ macro_rules! impl_simd_float {
             }
             #[inline(always)]
             fn max_bits(self, rhs: Self) -> Self {
-                let (mut a, b) = (self.to_array(), rhs.to_array());
-                for (x, y) in a.iter_mut().zip(b) {
-                    *x = crate::simd::max_bits(*x, y);
-                }
-                $f::new(a)
+                $f::new(lanewise(
+                    self.to_array(),
+                    rhs.to_array(),
+                    crate::simd::max_bits,
+                ))
             }
             #[inline(always)]
             fn min_bits(self, rhs: Self) -> Self {
-                let (mut a, b) = (self.to_array(), rhs.to_array());
-                for (x, y) in a.iter_mut().zip(b) {
-                    *x = crate::simd::min_bits(*x, y);
-                }
-                $f::new(a)
+                $f::new(lanewise(
+                    self.to_array(),
+                    rhs.to_array(),
+                    crate::simd::min_bits,
+                ))
             }
             #[inline(always)]
             fn all_true() -> Self {

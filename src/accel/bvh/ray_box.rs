@@ -136,15 +136,13 @@ impl SlabRay {
         let near = |k: usize| plane(self.entry_corner[k], k) * self.neg_inv_dir[k];
         let far = |k: usize| plane(1 - self.entry_corner[k], k) * self.neg_inv_dir_far[k];
         let (t_near, t_far) = if self.finite {
-            let t_near = max_bits(near(0), max_bits(near(1), max_bits(near(2), self.t_min)));
             (
-                t_near,
+                max_bits(near(0), max_bits(near(1), max_bits(near(2), self.t_min))),
                 min_bits(far(0), min_bits(far(1), min_bits(far(2), t_max * FAR_SCALE))),
             )
         } else {
-            let t_near = fast_max(near(0), fast_max(near(1), fast_max(near(2), self.t_min)));
             (
-                t_near,
+                fast_max(near(0), fast_max(near(1), fast_max(near(2), self.t_min))),
                 fast_min(far(0), fast_min(far(1), fast_min(far(2), t_max * FAR_SCALE))),
             )
         };
