@@ -130,19 +130,17 @@ impl<T: Copy, const N: usize> StackSlots<T, N> {
     #[inline(always)]
     pub fn pop(&self, len: usize) -> Option<(T, usize)> {
         let len = len.checked_sub(1)?;
-        // SAFETY: every push writes the slot it indexes before the length
-        // passes it, so each slot below a length (modulo N) has been written.
+        // SAFETY: every push (or put) writes the slot it indexes before the
+        // length passes it, so each slot below a length (modulo N) has been written.
         Some((unsafe { self.entries[len % N].assume_init() }, len))
     }
 
-    /// Entries `run` (pushed and still held), bottom first.
+    /// Write `entry` into position `at` (counted from the bottom), as part of
+    /// a run the caller pushes out of order and then holds whole.
     #[inline(always)]
-    pub fn run_mut(&mut self, run: std::ops::Range<usize>) -> &mut [T] {
-        debug_assert!(run.end <= N);
-        let entries = &mut self.entries[run];
-        // SAFETY: entries below the length held were all written by a push,
-        // and `MaybeUninit<T>` has the layout of `T`.
-        unsafe { std::slice::from_raw_parts_mut(entries.as_mut_ptr().cast::<T>(), entries.len()) }
+    pub fn put(&mut self, at: usize, entry: T) {
+        debug_assert!(at < N, "traversal stack overflow");
+        self.entries[at % N] = MaybeUninit::new(entry);
     }
 }
 
@@ -185,7 +183,9 @@ mod tests {
             len = s.push_if(len, (k, k as f32), true);
         }
         assert_eq!(s.push_if(len, (99, 99.0), false), N - 1);
-        s.run_mut(0..len).swap(0, 1);
+        // Two entries rewritten in place, as a ranked run is written.
+        s.put(0, (1, 1.0));
+        s.put(1, (0, 0.0));
         for k in (2..N as u32 - 1).rev() {
             let (entry, rest) = s.pop(len).unwrap();
             assert_eq!((entry, rest), ((k, k as f32), k as usize));
