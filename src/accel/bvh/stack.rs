@@ -139,7 +139,7 @@ impl<T: Copy, const N: usize> StackSlots<T, N> {
     /// a run the caller pushes out of order and then holds whole.
     #[inline(always)]
     pub fn put(&mut self, at: usize, entry: T) {
-        debug_assert!(at < N, "traversal stack overflow");
+        debug_assert!(at + 1 < N, "traversal stack overflow");
         self.entries[at % N] = MaybeUninit::new(entry);
     }
 }
@@ -203,6 +203,17 @@ mod tests {
         let mut len = 0;
         for _ in 0..4 {
             len = s.push_if(len, 0, true);
+        }
+    }
+
+    #[test]
+    #[cfg(debug_assertions)]
+    #[should_panic(expected = "traversal stack overflow")]
+    fn a_ranked_run_past_capacity_fails_the_debug_assertion() {
+        let mut s = StackSlots::<u8, 4>::new();
+        // Positions 0..3 leave the spare slot free; position 3 would take it.
+        for at in (0..4).rev() {
+            s.put(at, 0);
         }
     }
 
