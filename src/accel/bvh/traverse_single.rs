@@ -208,7 +208,7 @@ impl Cursor {
 }
 
 /// The entry t of a wide node's children, in the instruction set's 8-lane
-/// vectors (one or two), for ranking the children met by t. 64 bytes.
+/// vectors (one or two), for ranking the children met by t. 72 bytes.
 struct ChildRanks<N: Simd8> {
     halves: [N; 2],
     lanes: usize,
