@@ -32,7 +32,8 @@ fn round_order(round: usize, n: usize) -> Vec<usize> {
 ///
 /// - builds: three rounds after an untimed one, each building every
 ///   structure on every thread count (a fresh [`Builder`] per count, since
-///   Embree's thread limit is process-wide);
+///   Embree's thread limit is process-wide), then an untimed build at the
+///   most threads, whose structures are traced;
 /// - traversal: single rays and packets of every ray set of every scene and
 ///   engine on every thread count, `rounds` rounds after a warm-up round, all
 ///   on the structures of the last build.
@@ -109,9 +110,9 @@ fn distinct_thread_counts(threads: &[usize]) -> anyhow::Result<Vec<usize>> {
 /// Build the structure of every scene and engine of `pairs` on every thread
 /// count (`pools[t]`, build times into `timings[t]`), round by round, an
 /// untimed round then [`BUILD_ROUNDS`] timed ones, with a fresh [`Builder`]
-/// per thread count and round. Returns the structures of the very last
-/// builds, kept for tracing; every other one is dropped before the next
-/// builder exists (it holds its device).
+/// per thread count and round, then once more, untimed, at the most threads.
+/// Returns the structures of that last build, kept for tracing; every other
+/// one is dropped before the next builder exists (it holds its device).
 fn build_rounds<'a>(
     pairs: &[(&'a TraversalSetup, EngineVariant)],
     engines: &[Engine],
@@ -120,16 +121,23 @@ fn build_rounds<'a>(
     pools: &[rayon::ThreadPool],
     timings: &mut [Vec<Timings>],
 ) -> anyhow::Result<Vec<Option<Built<'a>>>> {
-    let mut structures: Vec<Option<Built<'a>>> = pairs.iter().map(|_| None).collect();
     for round in 0..=BUILD_ROUNDS {
-        let order = round_order(round, thread_counts.len());
-        for (step, &t) in order.iter().enumerate() {
-            let last = round == BUILD_ROUNDS && step + 1 == order.len();
+        for t in round_order(round, thread_counts.len()) {
             let builder = Builder::new(engines, embree_isas, thread_counts[t])?;
-            let kept = if last { Some(&mut structures[..]) } else { None };
-            pools[t].install(|| build_each(&builder, pairs, round, &mut timings[t], kept))?;
+            pools[t].install(|| build_each(&builder, pairs, round, &mut timings[t], None))?;
         }
     }
+    // The structures to trace come from one more build, untimed, at the most
+    // threads, made last: while the last Embree device made has fewer
+    // threads than an earlier one, a TBB worker spins (about three quarters
+    // of a core) through every later round, which on a 2-vCPU machine took
+    // up to a third of the 2-thread rounds, from either engine, at random.
+    let most = (0..thread_counts.len())
+        .max_by_key(|&t| thread_counts[t])
+        .ok_or_else(|| anyhow::anyhow!("no thread count to build with"))?;
+    let mut structures: Vec<Option<Built<'a>>> = pairs.iter().map(|_| None).collect();
+    let builder = Builder::new(engines, embree_isas, thread_counts[most])?;
+    pools[most].install(|| build_each(&builder, pairs, 0, &mut timings[most], Some(&mut structures[..])))?;
     Ok(structures)
 }
 
