@@ -19,6 +19,11 @@
 //! SCENE is a file or a `gen:` name, as `bench traversal` takes it. Each
 //! figure is the best of `--rounds` timed passes, in ns a ray. Exit code 2 on
 //! bad arguments or a scene that does not load.
+//!
+//! `--sets` and `--columns` trace only some sets and engines (the others
+//! print `-`), so that a profiler or cachegrind sees one of them alone:
+//! `valgrind --tool=cachegrind --branch-sim=yes … --sets random --columns
+//! raypack --rounds 1` (then `--rounds 2`: the difference is the rays').
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -54,6 +59,48 @@ struct Args {
     /// Timed passes over each set (the best is kept).
     #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=1000))]
     rounds: u32,
+    /// The sets to trace.
+    #[arg(long, value_delimiter = ',', default_values = ["away", "random", "repeated"])]
+    sets: Vec<Set>,
+    /// The engines and queries to trace them with.
+    #[arg(long, value_delimiter = ',', default_values = ["raypack", "embree", "raypack-any", "embree-any"])]
+    columns: Vec<Column>,
+}
+
+/// A set of rays (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Set {
+    Away,
+    Random,
+    Repeated,
+}
+
+/// An engine and query: a column of the table, in this order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum Column {
+    Raypack,
+    Embree,
+    RaypackAny,
+    EmbreeAny,
+}
+
+impl Column {
+    /// Every column, in the table's order.
+    const ALL: [Column; 4] = [
+        Column::Raypack,
+        Column::Embree,
+        Column::RaypackAny,
+        Column::EmbreeAny,
+    ];
+}
+
+/// A cell: ns a ray, or `-` for one not traced (NaN).
+fn cell(ns: f64) -> String {
+    if ns.is_nan() {
+        format!("{:>9}", "-")
+    } else {
+        format!("{ns:9.1}")
+    }
 }
 
 /// ns a ray of the best of `rounds` passes of `accel` over `rays`, in batches
@@ -88,7 +135,7 @@ fn load(name: &str) -> Result<Scene, String> {
 }
 
 /// The three sets of rays over `bvh`'s box: away, random, repeated.
-fn ray_sets(bvh: &Bvh) -> [(&'static str, Vec<Ray>); 3] {
+fn ray_sets(bvh: &Bvh) -> [(Set, Vec<Ray>); 3] {
     let bounds = bvh.bounds();
     let (center, reach) = (bounds.center(), 2.0 * bounds.extent().length());
     let mut rng = Rng::new(54);
@@ -102,7 +149,11 @@ fn ray_sets(bvh: &Bvh) -> [(&'static str, Vec<Ray>); 3] {
         .map(|_| Ray::unbounded(rng.point_in(bounds.min, bounds.max), rng.unit_vector()))
         .collect();
     let repeated = (0..RAYS).map(|i| random[i / REPEATS * REPEATS]).collect();
-    [("away", away), ("random", random), ("repeated", repeated)]
+    [
+        (Set::Away, away),
+        (Set::Random, random),
+        (Set::Repeated, repeated),
+    ]
 }
 
 fn main() -> ExitCode {
@@ -141,27 +192,32 @@ fn main() -> ExitCode {
                 return ExitCode::FAILURE;
             }
         };
-        let mut by_set = Vec::new();
+        // ns a ray per set (None: not traced) and column (NaN: not traced).
+        let mut by_set: Vec<Option<[f64; 4]>> = Vec::new();
         for (set, rays) in ray_sets(&bvh) {
-            let times = [false, true].map(|any_hit| {
-                (
-                    ns_a_ray(&bvh, &rays, any_hit, args.rounds),
-                    ns_a_ray(&embree, &rays, any_hit, args.rounds),
-                )
+            if !args.sets.contains(&set) {
+                by_set.push(None);
+                continue;
+            }
+            let times = Column::ALL.map(|column| {
+                if !args.columns.contains(&column) {
+                    return f64::NAN;
+                }
+                match column {
+                    Column::Raypack => ns_a_ray(&bvh, &rays, false, args.rounds),
+                    Column::Embree => ns_a_ray(&embree, &rays, false, args.rounds),
+                    Column::RaypackAny => ns_a_ray(&bvh, &rays, true, args.rounds),
+                    Column::EmbreeAny => ns_a_ray(&embree, &rays, true, args.rounds),
+                }
             });
-            let [(near_rp, near_em), (any_rp, any_em)] = times;
-            println!("{name:24} {set:8} {near_rp:9.1} {near_em:9.1} {any_rp:9.1} {any_em:9.1}");
-            by_set.push(times);
+            let set = format!("{set:?}").to_lowercase();
+            println!("{name:24} {set:8} {}", times.map(cell).join(" "));
+            by_set.push(Some(times));
         }
-        let cost = |k: usize, engine: fn((f64, f64)) -> f64| engine(by_set[1][k]) - engine(by_set[2][k]);
-        println!(
-            "{name:24} {:8} {:9.1} {:9.1} {:9.1} {:9.1}",
-            "rand−rep",
-            cost(0, |t| t.0),
-            cost(0, |t| t.1),
-            cost(1, |t| t.0),
-            cost(1, |t| t.1)
-        );
+        if let (Some(random), Some(repeated)) = (by_set[1], by_set[2]) {
+            let cost: [f64; 4] = std::array::from_fn(|k| random[k] - repeated[k]);
+            println!("{name:24} {:8} {}", "rand−rep", cost.map(cell).join(" "));
+        }
     }
     ExitCode::SUCCESS
 }
