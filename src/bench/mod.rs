@@ -8,6 +8,7 @@ pub mod change;
 pub mod figure;
 pub mod kernels;
 pub mod matrix;
+pub mod pinned_pool;
 pub mod rays;
 pub mod result;
 pub mod scene;

@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use crate::accel::Accel;
 use crate::accel::stats::NoStats;
+use crate::bench::pinned_pool::pinned_pool;
 use crate::bench::rays::KindRays;
 use crate::bench::timing_hooks::TimingHooks;
 use crate::bench::traversal::{trace_packets, trace_packets16, trace_single};
@@ -225,7 +226,8 @@ pub fn measure_set<A: Accel>(
 /// Time every unit (each trace `rays` rays) on a pool of its variant's
 /// threads, `runs` times interleaved unit by unit after a warm-up each, so
 /// that run `i` of every unit (of every engine among them) falls in round `i`;
-/// times pass through the bench timing hooks `hooks`. A unit's pool gets the
+/// times pass through the bench timing hooks `hooks`. Each unit has its own
+/// pool, its workers pinned ([`pinned_pool`]). A unit's pool gets the
 /// thread setup of its engine, `engines[unit.engine]` (none past the end of
 /// `engines`). Fails if two units of one engine disagree on the number of hits.
 pub fn interleave(
@@ -238,9 +240,7 @@ pub fn interleave(
     let pools = units
         .iter()
         .map(|u| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(u.variant.threads)
-                .build()
+            let pool = pinned_pool(u.variant.threads)
                 .map_err(|e| format!("cannot start {} threads: {e}", u.variant.threads))?;
             if let Some(&engine) = engines.get(u.engine) {
                 Engine::prepare_threads(&[engine], &pool);
