@@ -22,6 +22,14 @@
 //! it, for reports); it is a hint, which a kernel without the feature ignores.
 //! Smaller blocks, and every block on other systems, come from the system
 //! allocator.
+//!
+//! A freed large block stays mapped, up to [`KEPT_HUGE_BYTES`] in all, and the
+//! next large block is cut from it: its pages are warm. A fresh huge page is
+//! cleared by the kernel at its first touch (2 MiB of stores), and on these
+//! VMs it may first come back from the host; a program that builds one large
+//! tree after another (`raypack bench`) met fresh pages at every build.
+//! glibc keeps small freed blocks alike ([`keep_freed_memory`]), and Embree
+//! keeps its memory in pools of its own.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 
@@ -59,8 +67,7 @@ unsafe impl GlobalAlloc for HugePageAlloc {
     #[inline]
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
         if is_huge(layout) {
-            // Fresh anonymous mappings read as zeros.
-            map::map(layout.size())
+            map::map_zeroed(layout.size())
         } else {
             // SAFETY: the caller's contract is System's.
             unsafe { System.alloc_zeroed(layout) }
@@ -109,16 +116,93 @@ unsafe impl GlobalAlloc for HugePageAlloc {
     }
 }
 
-/// Mapping and unmapping whole huge pages.
+/// Freed huge page blocks kept mapped for reuse, in all at most this many
+/// bytes ([`HugePageAlloc`]'s module documentation).
+pub const KEPT_HUGE_BYTES: usize = 256 << 20;
+
+/// Mapping and unmapping whole huge pages, and keeping freed ones.
 #[cfg(target_os = "linux")]
 mod map {
-    use super::HUGE_PAGE_BYTES;
+    use std::sync::{Mutex, MutexGuard};
 
-    /// A private anonymous mapping of `bytes` rounded up to whole huge pages,
-    /// starting on a huge page boundary and advised for huge pages; null if
-    /// the system has no such memory to give.
+    use super::{HUGE_PAGE_BYTES, KEPT_HUGE_BYTES};
+
+    /// Most runs of freed pages kept at once.
+    const KEPT_RUNS: usize = 32;
+
+    /// Freed runs of whole huge pages, still mapped: `(start, length)`, length
+    /// 0 for an empty slot. 520 bytes.
+    struct Kept {
+        runs: [(usize, usize); KEPT_RUNS],
+        bytes: usize,
+    }
+
+    static KEPT: Mutex<Kept> = Mutex::new(Kept {
+        runs: [(0, 0); KEPT_RUNS],
+        bytes: 0,
+    });
+
+    /// The kept runs (nothing in them panics, so a poisoned lock is still sound).
+    fn kept() -> MutexGuard<'static, Kept> {
+        KEPT.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+
+    impl Kept {
+        /// The first `len` bytes of the shortest kept run that holds them, the
+        /// rest of the run kept; None if no run is long enough.
+        fn take(&mut self, len: usize) -> Option<usize> {
+            let slot = (0..KEPT_RUNS)
+                .filter(|&i| self.runs[i].1 >= len)
+                .min_by_key(|&i| self.runs[i].1)?;
+            let (start, run) = self.runs[slot];
+            self.runs[slot] = (start + len, run - len);
+            self.bytes -= len;
+            Some(start)
+        }
+
+        /// Keep the run `[start, start + len)`; false (nothing kept) if every
+        /// slot is taken or the kept bytes would pass [`KEPT_HUGE_BYTES`].
+        fn keep(&mut self, start: usize, len: usize) -> bool {
+            let Some(slot) = self.runs.iter().position(|&(_, run)| run == 0) else {
+                return false;
+            };
+            if self.bytes + len > KEPT_HUGE_BYTES {
+                return false;
+            }
+            self.runs[slot] = (start, len);
+            self.bytes += len;
+            true
+        }
+    }
+
+    /// A block of `bytes` rounded up to whole huge pages, starting on a huge
+    /// page boundary and advised for huge pages: cut from a kept run, or
+    /// mapped anew; null if the system has no such memory to give.
     pub fn map(bytes: usize) -> *mut u8 {
         let len = bytes.next_multiple_of(HUGE_PAGE_BYTES);
+        match kept().take(len) {
+            Some(start) => start as *mut u8,
+            None => map_new(len),
+        }
+    }
+
+    /// [`map`], every byte zero.
+    pub fn map_zeroed(bytes: usize) -> *mut u8 {
+        let len = bytes.next_multiple_of(HUGE_PAGE_BYTES);
+        match kept().take(len) {
+            Some(start) => {
+                // SAFETY: a kept run is mapped, writable and no one else's.
+                unsafe { std::ptr::write_bytes(start as *mut u8, 0, len) };
+                start as *mut u8
+            }
+            // Fresh anonymous mappings read as zeros.
+            None => map_new(len),
+        }
+    }
+
+    /// A fresh private anonymous mapping of `len` bytes (whole huge pages),
+    /// starting on a huge page boundary and advised for huge pages.
+    fn map_new(len: usize) -> *mut u8 {
         // Map one huge page more than needed, then unmap the slack before the
         // first boundary and after the block.
         // SAFETY: a fresh mapping the kernel places; no memory of ours is touched.
@@ -152,14 +236,24 @@ mod map {
         start as *mut u8
     }
 
-    /// Unmap a block `map` returned for `bytes`.
+    /// Bytes kept now.
+    #[cfg(test)]
+    pub fn kept_bytes() -> usize {
+        kept().bytes
+    }
+
+    /// Give back a block `map` returned for `bytes`: kept for the next
+    /// blocks while there is room, else unmapped.
     ///
     /// # Safety
     /// `block` came from `map(bytes)` and is not used again.
     pub unsafe fn unmap(block: *mut u8, bytes: usize) {
-        // SAFETY: the caller's contract; the length is the one mapped.
-        unsafe {
-            libc::munmap(block.cast(), bytes.next_multiple_of(HUGE_PAGE_BYTES));
+        let len = bytes.next_multiple_of(HUGE_PAGE_BYTES);
+        if !kept().keep(block as usize, len) {
+            // SAFETY: the caller's contract; the length is the one mapped.
+            unsafe {
+                libc::munmap(block.cast(), len);
+            }
         }
     }
 }
@@ -168,6 +262,10 @@ mod map {
 #[cfg(not(target_os = "linux"))]
 mod map {
     pub fn map(_bytes: usize) -> *mut u8 {
+        unreachable!("huge page blocks are Linux only")
+    }
+
+    pub fn map_zeroed(_bytes: usize) -> *mut u8 {
         unreachable!("huge page blocks are Linux only")
     }
 
@@ -282,6 +380,58 @@ mod tests {
                     Layout::from_size_align(bytes / 2 + 1, 64).expect("valid layout"),
                 );
             }
+        }
+    }
+
+    /// A freed large block is kept mapped and the next one cut from it, its
+    /// pages as they were; a zeroed block cut from it reads as zeros. (Sizes
+    /// no other test here asks for, since the kept runs are shared.)
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn freed_blocks_are_reused_warm_and_zeroed_on_request() {
+        let alloc = HugePageAlloc;
+        let layout = Layout::from_size_align(20 * HUGE_PAGE_BYTES + 1, 64).expect("valid layout");
+        let smaller = Layout::from_size_align(20 * HUGE_PAGE_BYTES, 64).expect("valid layout");
+        // SAFETY: non-zero layouts; each block is written within its size and
+        // freed with its layout.
+        unsafe {
+            let block = alloc.alloc(layout);
+            assert!(!block.is_null());
+            block.write_bytes(0xa5, layout.size());
+            alloc.dealloc(block, layout);
+            // The same whole pages, still holding what was written.
+            let again = alloc.alloc(smaller);
+            assert_eq!(again, block);
+            assert!(
+                std::slice::from_raw_parts(again, smaller.size())
+                    .iter()
+                    .all(|&b| b == 0xa5)
+            );
+            alloc.dealloc(again, smaller);
+            let zeroed = alloc.alloc_zeroed(smaller);
+            assert!(!zeroed.is_null());
+            assert!(
+                std::slice::from_raw_parts(zeroed, smaller.size())
+                    .iter()
+                    .all(|&b| b == 0)
+            );
+            alloc.dealloc(zeroed, smaller);
+        }
+    }
+
+    /// Freed blocks past [`KEPT_HUGE_BYTES`] in all are unmapped, not kept.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn kept_blocks_are_bounded() {
+        let alloc = HugePageAlloc;
+        let layout =
+            Layout::from_size_align(KEPT_HUGE_BYTES / 2 + HUGE_PAGE_BYTES, 64).expect("valid layout");
+        // SAFETY: non-zero layouts; each block is freed once with its layout.
+        unsafe {
+            let blocks = [alloc.alloc(layout), alloc.alloc(layout)];
+            assert!(blocks.iter().all(|b| !b.is_null()));
+            blocks.iter().for_each(|&b| alloc.dealloc(b, layout));
+            assert!(map::kept_bytes() <= KEPT_HUGE_BYTES);
         }
     }
 
