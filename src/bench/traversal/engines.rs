@@ -2,6 +2,7 @@
 //! registry, Embree once per ISA setting), their devices, and the rayon pools
 //! their rays are traced on.
 
+use crate::bench::pinned_pool::pinned_pool;
 use crate::bench::rays::KindRays;
 use crate::bench::traversal::trace::{trace_packets, trace_single};
 use crate::embree_settings::EmbreeIsa;
@@ -117,10 +118,11 @@ impl Builder {
     }
 }
 
-/// A rayon pool of `threads` threads, each set up for every engine of
-/// `variants` (Embree's FTZ/DAZ), so all engines run in the same mode.
+/// A rayon pool of `threads` threads, each pinned to its own CPU
+/// ([`pinned_pool`]) and set up for every engine of `variants` (Embree's
+/// FTZ/DAZ), so all engines run in the same mode.
 pub(super) fn pool(threads: usize, variants: &[EngineVariant]) -> anyhow::Result<rayon::ThreadPool> {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let pool = pinned_pool(threads)?;
     let engines: Vec<Engine> = variants.iter().map(|v| v.engine).collect();
     Engine::prepare_threads(&engines, &pool);
     Ok(pool)
