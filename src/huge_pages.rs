@@ -180,7 +180,9 @@ mod map {
     /// mapped anew; null if the system has no such memory to give.
     pub fn map(bytes: usize) -> *mut u8 {
         let len = bytes.next_multiple_of(HUGE_PAGE_BYTES);
-        match kept().take(len) {
+        // (The lock is let go before any system call.)
+        let taken = kept().take(len);
+        match taken {
             Some(start) => start as *mut u8,
             None => map_new(len),
         }
@@ -189,7 +191,9 @@ mod map {
     /// [`map`], every byte zero.
     pub fn map_zeroed(bytes: usize) -> *mut u8 {
         let len = bytes.next_multiple_of(HUGE_PAGE_BYTES);
-        match kept().take(len) {
+        // (The lock is let go before the block is cleared.)
+        let taken = kept().take(len);
+        match taken {
             Some(start) => {
                 // SAFETY: a kept run is mapped, writable and no one else's.
                 unsafe { std::ptr::write_bytes(start as *mut u8, 0, len) };
@@ -249,7 +253,8 @@ mod map {
     /// `block` came from `map(bytes)` and is not used again.
     pub unsafe fn unmap(block: *mut u8, bytes: usize) {
         let len = bytes.next_multiple_of(HUGE_PAGE_BYTES);
-        if !kept().keep(block as usize, len) {
+        let kept_it = kept().keep(block as usize, len);
+        if !kept_it {
             // SAFETY: the caller's contract; the length is the one mapped.
             unsafe {
                 libc::munmap(block.cast(), len);
