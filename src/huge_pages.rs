@@ -131,15 +131,13 @@ mod map {
     const KEPT_RUNS: usize = 32;
 
     /// Freed runs of whole huge pages, still mapped: `(start, length)`, length
-    /// 0 for an empty slot. 520 bytes.
+    /// 0 for an empty slot. 512 bytes.
     struct Kept {
         runs: [(usize, usize); KEPT_RUNS],
-        bytes: usize,
     }
 
     static KEPT: Mutex<Kept> = Mutex::new(Kept {
         runs: [(0, 0); KEPT_RUNS],
-        bytes: 0,
     });
 
     /// The kept runs (nothing in them panics, so a poisoned lock is still sound).
@@ -156,8 +154,12 @@ mod map {
                 .min_by_key(|&i| self.runs[i].1)?;
             let (start, run) = self.runs[slot];
             self.runs[slot] = (start + len, run - len);
-            self.bytes -= len;
             Some(start)
+        }
+
+        /// Bytes in all the runs.
+        fn bytes(&self) -> usize {
+            self.runs.iter().map(|&(_, run)| run).sum()
         }
 
         /// Keep the run `[start, start + len)`; false (nothing kept) if every
@@ -166,11 +168,10 @@ mod map {
             let Some(slot) = self.runs.iter().position(|&(_, run)| run == 0) else {
                 return false;
             };
-            if self.bytes + len > KEPT_HUGE_BYTES {
+            if self.bytes() + len > KEPT_HUGE_BYTES {
                 return false;
             }
             self.runs[slot] = (start, len);
-            self.bytes += len;
             true
         }
     }
@@ -243,7 +244,7 @@ mod map {
     /// Bytes kept now.
     #[cfg(test)]
     pub fn kept_bytes() -> usize {
-        kept().bytes
+        kept().bytes()
     }
 
     /// Give back a block `map` returned for `bytes`: kept for the next
