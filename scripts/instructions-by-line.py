@@ -12,7 +12,7 @@ Each `cg.out.K` is one counted part (its `Trigger:` line names it: `raypack/ao/s
 …); RAYS is the number of rays that part traced (the instructions per ray that
 `--instructions` prints give it: part total ÷ per-ray figure). Build with
 `cargo build --profile profiling` (line tables) and name that binary. Only the
-instruction-set entry points (`simd::isa::entry::…`), where the queries run, are
+instruction-set entry points (`<Task as simd::isa::EntryPoint>::…`), where the queries run, are
 counted. Each address is charged to the innermost frame of its inline chain
 (`addr2line -i`) that lies in raypack's `src/` outside `src/simd/` (the
 intrinsic wrappers), so a vector add is charged to the kernel line that adds.
@@ -85,7 +85,7 @@ def main():
     parser.add_argument("--files", action="store_true", help="sum by file, not by line")
     parser.add_argument("--top", type=int, default=40, help="rows to print")
     args = parser.parse_args()
-    counts = exclusive_counts(args.dump, "simd::isa::entry::")
+    counts = exclusive_counts(args.dump, "simd::isa::EntryPoint>::")
     if not counts:
         raise SystemExit(f"{args.dump}: no instructions in an entry point (run with --dump-instr=yes?)")
     lines = raypack_lines(args.binary, sorted(counts))

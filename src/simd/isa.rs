@@ -199,37 +199,81 @@ impl Isa {
         match self {
             // SAFETY: the caller guarantees the CPU has the level.
             #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
-            Isa::Avx2 => unsafe { entry::avx2(task) },
+            Isa::Avx2 => unsafe { task.avx2() },
             // SAFETY: as above.
             #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
-            Isa::Avx512 => unsafe { entry::avx512(task) },
-            _ => portable(task),
+            Isa::Avx512 => unsafe { task.avx512() },
+            _ => task.portable(),
         }
     }
 }
 
-/// [`Isa::Portable`]'s entry point. A function of its own like the x86
-/// levels', rather than inlined into every caller of [`Isa::run`]: the
-/// portable traversal is then compiled once per task, not once per call site
-/// (test crates built at opt-level 1 reuse the library's copy, see
-/// `docs/measurements.md`, "Build time of the test suite"), for one call per
-/// query where it runs (off x86, and on x86 CPUs without SSE4.2).
-#[inline(never)]
-fn portable<T: LevelTask>(task: T) -> T::Output {
-    task.run::<PortableLanes>()
+/// A task's entry point at each level: the functions [`Isa::run`] calls,
+/// each compiled whole (everything a task's `run` calls is inlined into it)
+/// and never inlined into its callers, so that a task's code is compiled once
+/// per level, not once per call site (test crates built at opt-level 1 reuse
+/// the library's copy, see `docs/measurements.md`, "Build time of the test
+/// suite"). This includes the portable level, for one call per query where it
+/// runs (off x86, and on x86 CPUs without SSE4.2), and a two-level query's
+/// mesh walks, which call another task of the same level.
+///
+/// Methods of the task's own type (a blanket impl), not free generic
+/// functions: the compiler places a method's copies in the codegen unit of its
+/// type's module, so each task's entry points are compiled in a unit of their
+/// own. A free function's copies, all the tasks' at a level, share the one
+/// unit of this module, which LLVM then works through on one core while the
+/// others idle (the fuzz build's library: one unit of 16 held 45% of the
+/// code).
+pub trait EntryPoint: LevelTask + Sized {
+    /// The task with [`Isa::Portable`]'s lane types.
+    fn portable(self) -> Self::Output;
+    /// The task compiled for [`Isa::Avx2`].
+    ///
+    /// # Safety
+    /// The CPU must have the level.
+    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    unsafe fn avx2(self) -> Self::Output;
+    /// The task compiled for [`Isa::Avx512`].
+    ///
+    /// # Safety
+    /// The CPU must have the level.
+    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    unsafe fn avx512(self) -> Self::Output;
 }
 
-/// The entry point of each x86 level: a task compiled with the level's
-/// instructions and lane types.
+impl<T: LevelTask> EntryPoint for T {
+    #[inline(never)]
+    fn portable(self) -> T::Output {
+        self.run::<PortableLanes>()
+    }
+
+    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    #[inline(never)]
+    #[target_feature(enable = "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt")]
+    unsafe fn avx2(self) -> T::Output {
+        self.run::<x86::Avx2Lanes>()
+    }
+
+    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    #[inline(never)]
+    #[target_feature(
+        enable = "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt,avx512f,avx512vl,avx512bw,avx512dq,avx512cd"
+    )]
+    unsafe fn avx512(self) -> T::Output {
+        self.run::<x86::Avx512Lanes>()
+    }
+}
+
+/// The lane types of each x86 level.
 #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
-mod entry {
-    use super::{Level, LevelTask};
+mod x86 {
+    use super::Level;
     use crate::simd::Isa;
     use crate::simd::x86::{Avx8, Avx8Vl, Avx8x2, Avx16, Sse4};
 
-    /// Declares a level's lane types and its entry point.
+    /// Declares a level's lane types.
     macro_rules! x86_level {
-        ($lanes:ident, $isa:ident, $entry:ident, $features:literal, $f4:ty, $f8:ty, $f16:ty) => {
+        ($lanes:ident, $isa:ident, $f4:ty, $f8:ty, $f16:ty) => {
             #[doc = concat!("[`Isa::", stringify!($isa), "`]'s lane types.")]
             pub struct $lanes;
 
@@ -239,35 +283,9 @@ mod entry {
                 type F8 = $f8;
                 type F16 = $f16;
             }
-
-            #[doc = concat!("`task` compiled for [`Isa::", stringify!($isa), "`].")]
-            // Never inlined, even into another level's task of the same
-            // instructions (a two-level query's mesh walks): a task's code is
-            // compiled once, not once per caller.
-            #[inline(never)]
-            #[target_feature(enable = $features)]
-            pub fn $entry<T: LevelTask>(task: T) -> T::Output {
-                task.run::<$lanes>()
-            }
         };
     }
 
-    x86_level!(
-        Avx2Lanes,
-        Avx2,
-        avx2,
-        "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt",
-        Sse4,
-        Avx8,
-        Avx8x2
-    );
-    x86_level!(
-        Avx512Lanes,
-        Avx512,
-        avx512,
-        "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt,avx512f,avx512vl,avx512bw,avx512dq,avx512cd",
-        Sse4,
-        Avx8Vl,
-        Avx16
-    );
+    x86_level!(Avx2Lanes, Avx2, Sse4, Avx8, Avx8x2);
+    x86_level!(Avx512Lanes, Avx512, Sse4, Avx8Vl, Avx16);
 }

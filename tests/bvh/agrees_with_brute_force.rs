@@ -18,11 +18,13 @@ fn triangles() {
     support::bvh::check_scene("triangles", &random::random_triangles(1000, 2), 102);
 }
 
+// Polygons under both kernels, two tests (the slowest of this file, run side
+// by side): the watertight pieces (held in the tree in their polygon's place,
+// one item per piece) and the crossing test (one item per polygon).
+
 #[test]
-fn polygons() {
-    // Under both kernels: the watertight pieces (held in the tree in their
-    // polygon's place, one item per piece) and the crossing test (one per polygon).
-    let mut prims = random::random_polygons(1000, 3);
+fn polygons_as_watertight_pieces() {
+    let prims = random::random_polygons(1000, 3);
     let pieces: usize = prims
         .iter()
         .map(|p| match p {
@@ -36,6 +38,11 @@ fn polygons() {
     );
     assert_eq!(Bvh::new(&prims).info().primitives, pieces);
     support::bvh::check_scene("polygons, pieces", &prims, 103);
+}
+
+#[test]
+fn polygons_by_the_crossing_test() {
+    let mut prims = random::random_polygons(1000, 3);
     for p in &mut prims {
         p.set_triangle_test(TriangleTest::Barycentric);
     }

@@ -1,6 +1,7 @@
 //! The built binary's instruction-set entry points are compiled whole (#18).
 //!
-//! An entry point (`raypack::simd::isa::entry::<level>`, `#[target_feature]`)
+//! An entry point (`<Task as raypack::simd::isa::EntryPoint>::<level>`,
+//! `#[target_feature]`)
 //! runs the traversal and kernels on its level's lane types. Everything under
 //! it must be inlined into it: a closure or function that is not
 //! `#[inline(always)]` becomes a function of its own, compiled without the
@@ -117,10 +118,14 @@ fn objdump(args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
-/// The level of an entry point's name (`…simd::isa::entry::avx2>:`), if it is one.
+/// The x86 level of an entry point's name (`…simd::isa::EntryPoint>::avx2>:`),
+/// if it is one. The portable level's entry point is checked as every other
+/// function is: baseline intrinsics only.
 fn entry_level(function: &str) -> Option<&str> {
-    let rest = &function[function.find("simd::isa::entry::")? + "simd::isa::entry::".len()..];
-    rest.split(|c: char| !c.is_ascii_alphanumeric()).next()
+    const ENTRY: &str = "simd::isa::EntryPoint>::";
+    let rest = &function[function.find(ENTRY)? + ENTRY.len()..];
+    let level = rest.split(|c: char| !c.is_ascii_alphanumeric()).next()?;
+    (level != "portable").then_some(level)
 }
 
 #[cfg(target_arch = "x86_64")]

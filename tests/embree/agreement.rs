@@ -14,7 +14,7 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use raypack::accel::BruteForce;
+use raypack::accel::Bvh;
 use raypack::compare::{Agreement, AgreementOptions, Kernel, primary_rays, random_rays, trace_rays};
 use raypack::embree::{Device, EmbreeScene};
 use raypack::scene::Scene;
@@ -35,9 +35,10 @@ fn device() -> Arc<Device> {
 }
 
 /// Compare on the scene camera's primary rays (at most `side` pixels a side)
-/// and `random` random rays, both kernels.
+/// and `random` random rays, both kernels. raypack's side is its BVH, which
+/// answers bit for bit as brute force does (`tests/bvh`).
 fn check_scene(scene: &Scene, embree: &EmbreeScene, side: u32, random: usize) {
-    let raypack = BruteForce::new(&scene.primitives);
+    let raypack = Bvh::new(&scene.primitives);
     let spec = scene.camera.unwrap_or_else(|| scene.default_camera());
     let scale = (side as f32 / spec.width.max(spec.height) as f32).min(1.0);
     let size = |n: u32| ((n as f32 * scale).round() as u32).max(1);
@@ -118,11 +119,8 @@ fn scene_files_agree_with_robust_embree() {
     let device = device();
     for path in &files {
         let scene = raypack::scene::load(path).unwrap_or_else(|e| panic!("{e}"));
-        // raypack traces by brute force: keep rays × primitives near 2·10⁸ per set.
-        let budget = 200_000_000 / scene.primitives.len().max(1);
-        let side = ((budget as f64).sqrt() as u32).clamp(16, 512);
         let embree = EmbreeScene::robust(device.clone(), &scene.primitives).expect("Embree scene");
-        check_scene(&scene, &embree, side, budget.clamp(1000, 100_000));
+        check_scene(&scene, &embree, 512, 100_000);
     }
     eprintln!("{} scene files checked in {}", files.len(), dir.display());
 }

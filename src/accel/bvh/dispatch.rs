@@ -31,67 +31,26 @@ fn on_level<T: LevelTask>(bvh: &Bvh, task: T) -> T::Output {
 /// The nearest hit of `ray`.
 #[inline(always)]
 pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
-    struct Task<'a, S>(&'a Bvh, &'a Ray, &'a mut S);
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = Hit;
-        #[inline(always)]
-        fn run<L: Level>(self) -> Hit {
-            traverse_single::intersect::<L::F8, S>(self.0, self.1, self.2)
-        }
-    }
-    on_level(bvh, Task(bvh, ray, stats))
+    on_level(bvh, single_nearest::Task(bvh, ray, stats))
 }
 
 /// Whether anything lies on `ray` within `[t_min, t_max]`.
 #[inline(always)]
 pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
-    struct Task<'a, S>(&'a Bvh, &'a Ray, &'a mut S);
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = bool;
-        #[inline(always)]
-        fn run<L: Level>(self) -> bool {
-            occlusion::occluded::<L::F8, S>(self.0, self.1, self.2)
-        }
-    }
-    on_level(bvh, Task(bvh, ray, stats))
+    on_level(bvh, single_blocked::Task(bvh, ray, stats))
 }
 
 /// [`Accel::intersect_each_counted`](crate::accel::Accel::intersect_each_counted):
 /// the rays one by one, all in one entry of the level's code.
 #[inline(always)]
 pub fn intersect_each<S: Counter>(bvh: &Bvh, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
-    struct Task<'a, S>(&'a Bvh, &'a [Ray], u32, &'a mut [Hit], &'a mut S);
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = ();
-        #[inline(always)]
-        fn run<L: Level>(self) {
-            let Task(bvh, rays, active, hits, stats) = self;
-            each_intersect::<L::F8, S>(bvh, rays, active, hits, stats);
-        }
-    }
-    on_level(bvh, Task(bvh, rays, active, hits, stats))
+    on_level(bvh, each_nearest::Task(bvh, rays, active, hits, stats))
 }
 
 /// [`Accel::occluded_each_counted`](crate::accel::Accel::occluded_each_counted).
 #[inline(always)]
 pub fn occluded_each<S: Counter>(bvh: &Bvh, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
-    struct Task<'a, S>(&'a Bvh, &'a [Ray], u32, &'a mut S);
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = u32;
-        #[inline(always)]
-        fn run<L: Level>(self) -> u32 {
-            let Task(bvh, rays, active, stats) = self;
-            let mut blocked = 0;
-            for (i, ray) in rays.iter().enumerate() {
-                if active >> i & 1 == 1 {
-                    stats.lane(i);
-                    blocked |= u32::from(occlusion::occluded::<L::F8, S>(bvh, ray, stats)) << i;
-                }
-            }
-            blocked
-        }
-    }
-    on_level(bvh, Task(bvh, rays, active, stats))
+    on_level(bvh, each_blocked::Task(bvh, rays, active, stats))
 }
 
 /// The loop of [`intersect_each`].
@@ -167,31 +126,13 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
     rays: &RayPacket<F>,
     stats: &mut S,
 ) -> HitPacket<F> {
-    struct Task<'a, F: SimdFloat, S>(&'a Bvh, &'a RayPacket<F>, &'a mut S);
-    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
-        type Output = HitPacket<F>;
-        #[inline(always)]
-        fn run<L: Level>(self) -> HitPacket<F> {
-            let Task(bvh, rays, stats) = self;
-            at_width!(F, L, nearest_in(bvh, rays, stats))
-        }
-    }
-    on_level(bvh, Task(bvh, rays, stats))
+    on_level(bvh, packet_nearest::Task(bvh, rays, stats))
 }
 
 /// The mask of active lanes of `rays` on which something lies within `[t_min, t_max]`.
 #[inline(always)]
 pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> F {
-    struct Task<'a, F: SimdFloat, S>(&'a Bvh, &'a RayPacket<F>, &'a mut S);
-    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
-        type Output = F;
-        #[inline(always)]
-        fn run<L: Level>(self) -> F {
-            let Task(bvh, rays, stats) = self;
-            at_width!(F, L, occluded_in(bvh, rays, stats))
-        }
-    }
-    on_level(bvh, Task(bvh, rays, stats))
+    on_level(bvh, packet_blocked::Task(bvh, rays, stats))
 }
 
 /// [`Accel::intersect_rays_counted`](crate::accel::Accel::intersect_rays_counted):
@@ -203,7 +144,153 @@ pub fn intersect_rays<F: SimdFloat, S: Counter>(
     mask: u32,
     stats: &mut S,
 ) -> HitPacket<F> {
-    struct Task<'a, F, S>(&'a Bvh, &'a [Ray], u32, &'a mut S, PhantomData<F>);
+    on_level(
+        bvh,
+        rays_nearest::Task::<F, S>(bvh, rays, mask, stats, PhantomData),
+    )
+}
+
+/// [`Accel::occluded_rays_counted`](crate::accel::Accel::occluded_rays_counted),
+/// as [`intersect_rays`].
+#[inline(always)]
+pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut S) -> F {
+    on_level(
+        bvh,
+        rays_blocked::Task::<F, S>(bvh, rays, mask, stats, PhantomData),
+    )
+}
+
+// Each query's task in a module of its own: the compiler places a task's
+// entry points (`simd::isa::EntryPoint`, a blanket impl) in the codegen unit
+// of the module that defines the task's type, so these modules are what
+// lets the queries' levels compile on several cores at once (all in this
+// module, one unit held most of the library's code).
+
+/// [`intersect`]'s task.
+mod single_nearest {
+    use super::*;
+
+    pub(super) struct Task<'a, S>(pub(super) &'a Bvh, pub(super) &'a Ray, pub(super) &'a mut S);
+    impl<S: Counter> LevelTask for Task<'_, S> {
+        type Output = Hit;
+        #[inline(always)]
+        fn run<L: Level>(self) -> Hit {
+            traverse_single::intersect::<L::F8, S>(self.0, self.1, self.2)
+        }
+    }
+}
+
+/// [`occluded`]'s task.
+mod single_blocked {
+    use super::*;
+
+    pub(super) struct Task<'a, S>(pub(super) &'a Bvh, pub(super) &'a Ray, pub(super) &'a mut S);
+    impl<S: Counter> LevelTask for Task<'_, S> {
+        type Output = bool;
+        #[inline(always)]
+        fn run<L: Level>(self) -> bool {
+            occlusion::occluded::<L::F8, S>(self.0, self.1, self.2)
+        }
+    }
+}
+
+/// [`intersect_each`]'s task.
+mod each_nearest {
+    use super::*;
+
+    pub(super) struct Task<'a, S>(
+        pub(super) &'a Bvh,
+        pub(super) &'a [Ray],
+        pub(super) u32,
+        pub(super) &'a mut [Hit],
+        pub(super) &'a mut S,
+    );
+    impl<S: Counter> LevelTask for Task<'_, S> {
+        type Output = ();
+        #[inline(always)]
+        fn run<L: Level>(self) {
+            let Task(bvh, rays, active, hits, stats) = self;
+            each_intersect::<L::F8, S>(bvh, rays, active, hits, stats);
+        }
+    }
+}
+
+/// [`occluded_each`]'s task.
+mod each_blocked {
+    use super::*;
+
+    pub(super) struct Task<'a, S>(
+        pub(super) &'a Bvh,
+        pub(super) &'a [Ray],
+        pub(super) u32,
+        pub(super) &'a mut S,
+    );
+    impl<S: Counter> LevelTask for Task<'_, S> {
+        type Output = u32;
+        #[inline(always)]
+        fn run<L: Level>(self) -> u32 {
+            let Task(bvh, rays, active, stats) = self;
+            let mut blocked = 0;
+            for (i, ray) in rays.iter().enumerate() {
+                if active >> i & 1 == 1 {
+                    stats.lane(i);
+                    blocked |= u32::from(occlusion::occluded::<L::F8, S>(bvh, ray, stats)) << i;
+                }
+            }
+            blocked
+        }
+    }
+}
+
+/// [`intersect_packet`]'s task.
+mod packet_nearest {
+    use super::*;
+
+    pub(super) struct Task<'a, F: SimdFloat, S>(
+        pub(super) &'a Bvh,
+        pub(super) &'a RayPacket<F>,
+        pub(super) &'a mut S,
+    );
+    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
+        type Output = HitPacket<F>;
+        #[inline(always)]
+        fn run<L: Level>(self) -> HitPacket<F> {
+            let Task(bvh, rays, stats) = self;
+            at_width!(F, L, nearest_in(bvh, rays, stats))
+        }
+    }
+}
+
+/// [`occluded_packet`]'s task.
+mod packet_blocked {
+    use super::*;
+
+    pub(super) struct Task<'a, F: SimdFloat, S>(
+        pub(super) &'a Bvh,
+        pub(super) &'a RayPacket<F>,
+        pub(super) &'a mut S,
+    );
+    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
+        type Output = F;
+        #[inline(always)]
+        fn run<L: Level>(self) -> F {
+            let Task(bvh, rays, stats) = self;
+            at_width!(F, L, occluded_in(bvh, rays, stats))
+        }
+    }
+}
+
+/// [`intersect_rays`]'s task.
+mod rays_nearest {
+    use super::*;
+
+    pub(super) struct Task<'a, F, S>(
+        pub(super) &'a Bvh,
+        pub(super) &'a [Ray],
+        pub(super) u32,
+        pub(super) &'a mut S,
+        pub(super) PhantomData<F>,
+    );
     impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
         type Output = HitPacket<F>;
         #[inline(always)]
@@ -212,14 +299,19 @@ pub fn intersect_rays<F: SimdFloat, S: Counter>(
             at_width!(F, L, nearest_of_rays(bvh, rays, mask, stats))
         }
     }
-    on_level(bvh, Task::<F, S>(bvh, rays, mask, stats, PhantomData))
 }
 
-/// [`Accel::occluded_rays_counted`](crate::accel::Accel::occluded_rays_counted),
-/// as [`intersect_rays`].
-#[inline(always)]
-pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut S) -> F {
-    struct Task<'a, F, S>(&'a Bvh, &'a [Ray], u32, &'a mut S, PhantomData<F>);
+/// [`occluded_rays`]'s task.
+mod rays_blocked {
+    use super::*;
+
+    pub(super) struct Task<'a, F, S>(
+        pub(super) &'a Bvh,
+        pub(super) &'a [Ray],
+        pub(super) u32,
+        pub(super) &'a mut S,
+        pub(super) PhantomData<F>,
+    );
     impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
         type Output = F;
         #[inline(always)]
@@ -228,5 +320,4 @@ pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u3
             at_width!(F, L, occluded_of_rays(bvh, rays, mask, stats))
         }
     }
-    on_level(bvh, Task::<F, S>(bvh, rays, mask, stats, PhantomData))
 }

@@ -254,70 +254,93 @@ fn counted_once<S: Counter, T>(stats: &mut S, rays: u64, packet: bool, walk: imp
 mod tasks {
     use super::*;
 
-    /// Nearest hits of the rays of `active`, one by one, into `hits`.
-    pub struct Each<'a, B, S>(
-        pub &'a TwoLevel<B>,
-        pub &'a [Ray],
-        pub u32,
-        pub &'a mut [Hit],
-        pub &'a mut S,
-    );
-    impl<B: BottomLevel, S: Counter> LevelTask for Each<'_, B, S> {
-        type Output = ();
-        #[inline(always)]
-        fn run<L: Level>(self) {
-            let Each(two_level, rays, active, hits, stats) = self;
-            for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
-                if active >> i & 1 == 1 {
-                    stats.lane(i);
-                    *hit = Hit::none(ray);
-                    two_level.intersect_on::<L::F8, S>(ray, hit, stats);
+    // Each task in a module of its own, for the codegen units (as the BVH's,
+    // `accel/bvh/dispatch.rs`).
+    pub use each_blocked::EachBlocked;
+    pub use each_nearest::Each;
+    pub use packet_blocked::PacketBlocked;
+    pub use packet_nearest::Packet;
+
+    mod each_nearest {
+        use super::*;
+
+        /// Nearest hits of the rays of `active`, one by one, into `hits`.
+        pub struct Each<'a, B, S>(
+            pub &'a TwoLevel<B>,
+            pub &'a [Ray],
+            pub u32,
+            pub &'a mut [Hit],
+            pub &'a mut S,
+        );
+        impl<B: BottomLevel, S: Counter> LevelTask for Each<'_, B, S> {
+            type Output = ();
+            #[inline(always)]
+            fn run<L: Level>(self) {
+                let Each(two_level, rays, active, hits, stats) = self;
+                for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+                    if active >> i & 1 == 1 {
+                        stats.lane(i);
+                        *hit = Hit::none(ray);
+                        two_level.intersect_on::<L::F8, S>(ray, hit, stats);
+                    }
                 }
             }
         }
     }
 
-    /// The blocked rays of `active`, one by one.
-    pub struct EachBlocked<'a, B, S>(pub &'a TwoLevel<B>, pub &'a [Ray], pub u32, pub &'a mut S);
-    impl<B: BottomLevel, S: Counter> LevelTask for EachBlocked<'_, B, S> {
-        type Output = u32;
-        #[inline(always)]
-        fn run<L: Level>(self) -> u32 {
-            let EachBlocked(two_level, rays, active, stats) = self;
-            let mut blocked = 0;
-            for (i, ray) in rays.iter().enumerate() {
-                if active >> i & 1 == 1 {
-                    stats.lane(i);
-                    blocked |= u32::from(two_level.occluded_on::<L::F8, S>(ray, stats)) << i;
+    mod each_blocked {
+        use super::*;
+
+        /// The blocked rays of `active`, one by one.
+        pub struct EachBlocked<'a, B, S>(pub &'a TwoLevel<B>, pub &'a [Ray], pub u32, pub &'a mut S);
+        impl<B: BottomLevel, S: Counter> LevelTask for EachBlocked<'_, B, S> {
+            type Output = u32;
+            #[inline(always)]
+            fn run<L: Level>(self) -> u32 {
+                let EachBlocked(two_level, rays, active, stats) = self;
+                let mut blocked = 0;
+                for (i, ray) in rays.iter().enumerate() {
+                    if active >> i & 1 == 1 {
+                        stats.lane(i);
+                        blocked |= u32::from(two_level.occluded_on::<L::F8, S>(ray, stats)) << i;
+                    }
                 }
+                blocked
             }
-            blocked
         }
     }
 
-    /// The nearest hits of a packet, in the level's lanes of its width.
-    pub struct Packet<'a, B, F: SimdFloat, S>(pub &'a TwoLevel<B>, pub &'a RayPacket<F>, pub &'a mut S);
-    impl<B: BottomLevel, F: SimdFloat, S: Counter> LevelTask for Packet<'_, B, F, S> {
-        type Output = HitPacket<F>;
-        #[inline(always)]
-        fn run<L: Level>(self) -> HitPacket<F> {
-            let Packet(two_level, rays, stats) = self;
-            at_width!(F, L, nearest_in(two_level, rays, stats))
+    mod packet_nearest {
+        use super::*;
+
+        /// The nearest hits of a packet, in the level's lanes of its width.
+        pub struct Packet<'a, B, F: SimdFloat, S>(pub &'a TwoLevel<B>, pub &'a RayPacket<F>, pub &'a mut S);
+        impl<B: BottomLevel, F: SimdFloat, S: Counter> LevelTask for Packet<'_, B, F, S> {
+            type Output = HitPacket<F>;
+            #[inline(always)]
+            fn run<L: Level>(self) -> HitPacket<F> {
+                let Packet(two_level, rays, stats) = self;
+                at_width!(F, L, nearest_in(two_level, rays, stats))
+            }
         }
     }
 
-    /// The blocked lanes of a packet, in the level's lanes of its width.
-    pub struct PacketBlocked<'a, B, F: SimdFloat, S>(
-        pub &'a TwoLevel<B>,
-        pub &'a RayPacket<F>,
-        pub &'a mut S,
-    );
-    impl<B: BottomLevel, F: SimdFloat, S: Counter> LevelTask for PacketBlocked<'_, B, F, S> {
-        type Output = F;
-        #[inline(always)]
-        fn run<L: Level>(self) -> F {
-            let PacketBlocked(two_level, rays, stats) = self;
-            at_width!(F, L, blocked_in(two_level, rays, stats))
+    mod packet_blocked {
+        use super::*;
+
+        /// The blocked lanes of a packet, in the level's lanes of its width.
+        pub struct PacketBlocked<'a, B, F: SimdFloat, S>(
+            pub &'a TwoLevel<B>,
+            pub &'a RayPacket<F>,
+            pub &'a mut S,
+        );
+        impl<B: BottomLevel, F: SimdFloat, S: Counter> LevelTask for PacketBlocked<'_, B, F, S> {
+            type Output = F;
+            #[inline(always)]
+            fn run<L: Level>(self) -> F {
+                let PacketBlocked(two_level, rays, stats) = self;
+                at_width!(F, L, blocked_in(two_level, rays, stats))
+            }
         }
     }
 
