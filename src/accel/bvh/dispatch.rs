@@ -168,7 +168,7 @@ pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u3
 
 /// [`intersect`]'s task.
 mod single_nearest {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, S>(pub(super) &'a Bvh, pub(super) &'a Ray, pub(super) &'a mut S);
     impl<S: Counter> LevelTask for Task<'_, S> {
@@ -182,7 +182,7 @@ mod single_nearest {
 
 /// [`occluded`]'s task.
 mod single_blocked {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, S>(pub(super) &'a Bvh, pub(super) &'a Ray, pub(super) &'a mut S);
     impl<S: Counter> LevelTask for Task<'_, S> {
@@ -196,7 +196,7 @@ mod single_blocked {
 
 /// [`intersect_each`]'s task.
 mod each_nearest {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, S>(
         pub(super) &'a Bvh,
@@ -217,7 +217,7 @@ mod each_nearest {
 
 /// [`occluded_each`]'s task.
 mod each_blocked {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, S>(
         pub(super) &'a Bvh,
@@ -244,7 +244,7 @@ mod each_blocked {
 
 /// [`intersect_packet`]'s task.
 mod packet_nearest {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, F: SimdFloat, S>(
         pub(super) &'a Bvh,
@@ -263,7 +263,7 @@ mod packet_nearest {
 
 /// [`occluded_packet`]'s task.
 mod packet_blocked {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, F: SimdFloat, S>(
         pub(super) &'a Bvh,
@@ -282,7 +282,7 @@ mod packet_blocked {
 
 /// [`intersect_rays`]'s task.
 mod rays_nearest {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, F, S>(
         pub(super) &'a Bvh,
@@ -303,7 +303,7 @@ mod rays_nearest {
 
 /// [`occluded_rays`]'s task.
 mod rays_blocked {
-    use super::*;
+    use crate::accel::bvh::dispatch::*;
 
     pub(super) struct Task<'a, F, S>(
         pub(super) &'a Bvh,
