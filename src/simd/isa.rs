@@ -8,11 +8,14 @@
 //! command forces one (`--isa`) for a comparison. A level is only ever run
 //! where [`Isa::is_available`] says the CPU has it.
 //!
-//! Fuzz builds (`--cfg fuzzing`, which cargo-fuzz sets) have the portable level
-//! only: the fuzzers look for inputs that panic or misuse memory, and the x86
-//! levels run the same generic code in safe Rust (checked bit for bit against
-//! the portable level by `tests/bvh/isa.rs`); compiling them too would put
-//! three more copies of the traversal into the instrumented build.
+//! Fuzz builds (`--cfg fuzzing`, which cargo-fuzz sets) and the library's own
+//! unit tests (`cfg(test)`) have the portable level only. The fuzzers look for
+//! inputs that panic or misuse memory, and the unit tests for wrong results;
+//! the x86 levels run the same generic code in safe Rust, checked bit for bit
+//! against the portable level by `tests/bvh/isa.rs` in the ordinary library
+//! build. Compiling them too would put two more copies of every traversal
+//! into builds that never run them on another level (the unit tests' build was
+//! about half of the test suite's, `docs/measurements.md`).
 
 use std::fmt;
 use std::str::FromStr;
@@ -53,7 +56,7 @@ impl Isa {
     pub fn is_available(self) -> bool {
         match self {
             Isa::Portable => true,
-            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+            #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
             Isa::Avx2 => {
                 is_x86_feature_detected!("sse4.2")
                     && is_x86_feature_detected!("popcnt")
@@ -63,7 +66,7 @@ impl Isa {
                     && is_x86_feature_detected!("bmi2")
                     && is_x86_feature_detected!("lzcnt")
             }
-            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+            #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
             Isa::Avx512 => {
                 Isa::Avx2.is_available()
                     && is_x86_feature_detected!("avx512f")
@@ -72,7 +75,7 @@ impl Isa {
                     && is_x86_feature_detected!("avx512dq")
                     && is_x86_feature_detected!("avx512cd")
             }
-            #[cfg(any(not(target_arch = "x86_64"), fuzzing))]
+            #[cfg(any(not(target_arch = "x86_64"), fuzzing, test))]
             _ => false,
         }
     }
@@ -198,10 +201,10 @@ impl Isa {
     pub unsafe fn run<T: LevelTask>(self, task: T) -> T::Output {
         match self {
             // SAFETY: the caller guarantees the CPU has the level.
-            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+            #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
             Isa::Avx2 => unsafe { task.avx2() },
             // SAFETY: as above.
-            #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+            #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
             Isa::Avx512 => unsafe { task.avx512() },
             _ => task.portable(),
         }
@@ -231,13 +234,13 @@ pub trait EntryPoint: LevelTask + Sized {
     ///
     /// # Safety
     /// The CPU must have the level.
-    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
     unsafe fn avx2(self) -> Self::Output;
     /// The task compiled for [`Isa::Avx512`].
     ///
     /// # Safety
     /// The CPU must have the level.
-    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
     unsafe fn avx512(self) -> Self::Output;
 }
 
@@ -247,14 +250,14 @@ impl<T: LevelTask> EntryPoint for T {
         self.run::<PortableLanes>()
     }
 
-    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
     #[inline(never)]
     #[target_feature(enable = "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt")]
     unsafe fn avx2(self) -> T::Output {
         self.run::<x86::Avx2Lanes>()
     }
 
-    #[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+    #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
     #[inline(never)]
     #[target_feature(
         enable = "sse4.1,sse4.2,popcnt,avx,avx2,fma,bmi1,bmi2,lzcnt,avx512f,avx512vl,avx512bw,avx512dq,avx512cd"
@@ -265,7 +268,7 @@ impl<T: LevelTask> EntryPoint for T {
 }
 
 /// The lane types of each x86 level.
-#[cfg(all(target_arch = "x86_64", not(fuzzing)))]
+#[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
 mod x86 {
     use super::Level;
     use crate::simd::Isa;
