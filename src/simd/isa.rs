@@ -267,6 +267,43 @@ impl<T: LevelTask> EntryPoint for T {
     }
 }
 
+/// Declares a [`LevelTask`]: `level_task!(TYPE<'a, G: Bound, …>(field: Type, …) -> Output { body })`
+/// makes the struct `TYPE`, holding the fields, built by `TYPE::new(fields…)`,
+/// whose `run` evaluates `body` with the fields bound by name and the level's
+/// lane types as `L`. Each task goes in a module of its own, the codegen
+/// unit of its entry points (see [`EntryPoint`]).
+macro_rules! level_task {
+    (
+        $(#[$doc:meta])*
+        $task:ident<$lt:lifetime $(, $g:ident: $bound:path)*>($($field:ident: $ty:ty),* $(,)?) -> $output:ty
+        $body:block
+    ) => {
+        $(#[$doc])*
+        pub(crate) struct $task<$lt $(, $g: $bound)*>(
+            $($ty,)*
+            std::marker::PhantomData<&$lt ($($g,)*)>,
+        );
+
+        impl<$lt $(, $g: $bound)*> $task<$lt $(, $g)*> {
+            /// The task of these arguments.
+            #[inline(always)]
+            pub(crate) fn new($($field: $ty),*) -> Self {
+                Self($($field,)* std::marker::PhantomData)
+            }
+        }
+
+        impl<$lt $(, $g: $bound)*> $crate::simd::isa::LevelTask for $task<$lt $(, $g)*> {
+            type Output = $output;
+            #[inline(always)]
+            fn run<L: $crate::simd::isa::Level>(self) -> $output {
+                let Self($($field,)* _) = self;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use level_task;
+
 /// The lane types of each x86 level.
 #[cfg(all(target_arch = "x86_64", not(any(fuzzing, test))))]
 mod x86 {

@@ -10,15 +10,13 @@
 //! for bit. Every level computes the same operations in the same order (no
 //! fused multiply-adds), so every level gives the same hits.
 
-use std::marker::PhantomData;
-
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::{occlusion, traverse_packet, traverse_single};
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
-use crate::simd::isa::{Level, LevelTask};
-use crate::simd::{Simd8, SimdFloat};
+use crate::simd::SimdFloat;
+use crate::simd::isa::{Level, LevelTask, level_task};
 
 /// Run `task` on the level of `bvh`.
 #[inline(always)]
@@ -31,43 +29,26 @@ fn on_level<T: LevelTask>(bvh: &Bvh, task: T) -> T::Output {
 /// The nearest hit of `ray`.
 #[inline(always)]
 pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
-    on_level(bvh, single_nearest::Task(bvh, ray, stats))
+    on_level(bvh, single_nearest::Task::new(bvh, ray, stats))
 }
 
 /// Whether anything lies on `ray` within `[t_min, t_max]`.
 #[inline(always)]
 pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
-    on_level(bvh, single_blocked::Task(bvh, ray, stats))
+    on_level(bvh, single_blocked::Task::new(bvh, ray, stats))
 }
 
 /// [`Accel::intersect_each_counted`](crate::accel::Accel::intersect_each_counted):
 /// the rays one by one, all in one entry of the level's code.
 #[inline(always)]
 pub fn intersect_each<S: Counter>(bvh: &Bvh, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
-    on_level(bvh, each_nearest::Task(bvh, rays, active, hits, stats))
+    on_level(bvh, each_nearest::Task::new(bvh, rays, active, hits, stats))
 }
 
 /// [`Accel::occluded_each_counted`](crate::accel::Accel::occluded_each_counted).
 #[inline(always)]
 pub fn occluded_each<S: Counter>(bvh: &Bvh, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
-    on_level(bvh, each_blocked::Task(bvh, rays, active, stats))
-}
-
-/// The loop of [`intersect_each`].
-#[inline(always)]
-fn each_intersect<N: Simd8, S: Counter>(
-    bvh: &Bvh,
-    rays: &[Ray],
-    active: u32,
-    hits: &mut [Hit],
-    stats: &mut S,
-) {
-    for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
-        if active >> i & 1 == 1 {
-            stats.lane(i);
-            traverse_single::intersect_into::<N, S>(bvh, ray, hit, stats);
-        }
-    }
+    on_level(bvh, each_blocked::Task::new(bvh, rays, active, stats))
 }
 
 /// `$trace::<G>(args…)` with `G` the lane type of level `$L` as wide as `$F`,
@@ -126,13 +107,13 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
     rays: &RayPacket<F>,
     stats: &mut S,
 ) -> HitPacket<F> {
-    on_level(bvh, packet_nearest::Task(bvh, rays, stats))
+    on_level(bvh, packet_nearest::Task::new(bvh, rays, stats))
 }
 
 /// The mask of active lanes of `rays` on which something lies within `[t_min, t_max]`.
 #[inline(always)]
 pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> F {
-    on_level(bvh, packet_blocked::Task(bvh, rays, stats))
+    on_level(bvh, packet_blocked::Task::new(bvh, rays, stats))
 }
 
 /// [`Accel::intersect_rays_counted`](crate::accel::Accel::intersect_rays_counted):
@@ -144,20 +125,14 @@ pub fn intersect_rays<F: SimdFloat, S: Counter>(
     mask: u32,
     stats: &mut S,
 ) -> HitPacket<F> {
-    on_level(
-        bvh,
-        rays_nearest::Task::<F, S>(bvh, rays, mask, stats, PhantomData),
-    )
+    on_level(bvh, rays_nearest::Task::<F, S>::new(bvh, rays, mask, stats))
 }
 
 /// [`Accel::occluded_rays_counted`](crate::accel::Accel::occluded_rays_counted),
 /// as [`intersect_rays`].
 #[inline(always)]
 pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut S) -> F {
-    on_level(
-        bvh,
-        rays_blocked::Task::<F, S>(bvh, rays, mask, stats, PhantomData),
-    )
+    on_level(bvh, rays_blocked::Task::<F, S>::new(bvh, rays, mask, stats))
 }
 
 // Each query's task in a module of its own: the compiler places a task's
@@ -169,155 +144,90 @@ pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u3
 /// [`intersect`]'s task.
 mod single_nearest {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, S>(pub(super) &'a Bvh, pub(super) &'a Ray, pub(super) &'a mut S);
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = Hit;
-        #[inline(always)]
-        fn run<L: Level>(self) -> Hit {
-            traverse_single::intersect::<L::F8, S>(self.0, self.1, self.2)
-        }
-    }
+    level_task!(Task<'a, S: Counter>(bvh: &'a Bvh, ray: &'a Ray, stats: &'a mut S) -> Hit {
+        traverse_single::intersect::<L::F8, S>(bvh, ray, stats)
+    });
 }
 
 /// [`occluded`]'s task.
 mod single_blocked {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, S>(pub(super) &'a Bvh, pub(super) &'a Ray, pub(super) &'a mut S);
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = bool;
-        #[inline(always)]
-        fn run<L: Level>(self) -> bool {
-            occlusion::occluded::<L::F8, S>(self.0, self.1, self.2)
-        }
-    }
+    level_task!(Task<'a, S: Counter>(bvh: &'a Bvh, ray: &'a Ray, stats: &'a mut S) -> bool {
+        occlusion::occluded::<L::F8, S>(bvh, ray, stats)
+    });
 }
 
 /// [`intersect_each`]'s task.
 mod each_nearest {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, S>(
-        pub(super) &'a Bvh,
-        pub(super) &'a [Ray],
-        pub(super) u32,
-        pub(super) &'a mut [Hit],
-        pub(super) &'a mut S,
-    );
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = ();
-        #[inline(always)]
-        fn run<L: Level>(self) {
-            let Task(bvh, rays, active, hits, stats) = self;
-            each_intersect::<L::F8, S>(bvh, rays, active, hits, stats);
+    level_task!(Task<'a, S: Counter>(
+        bvh: &'a Bvh,
+        rays: &'a [Ray],
+        active: u32,
+        hits: &'a mut [Hit],
+        stats: &'a mut S,
+    ) -> () {
+        for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
+            if active >> i & 1 == 1 {
+                stats.lane(i);
+                traverse_single::intersect_into::<L::F8, S>(bvh, ray, hit, stats);
+            }
         }
-    }
+    });
 }
 
 /// [`occluded_each`]'s task.
 mod each_blocked {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, S>(
-        pub(super) &'a Bvh,
-        pub(super) &'a [Ray],
-        pub(super) u32,
-        pub(super) &'a mut S,
-    );
-    impl<S: Counter> LevelTask for Task<'_, S> {
-        type Output = u32;
-        #[inline(always)]
-        fn run<L: Level>(self) -> u32 {
-            let Task(bvh, rays, active, stats) = self;
-            let mut blocked = 0;
-            for (i, ray) in rays.iter().enumerate() {
-                if active >> i & 1 == 1 {
-                    stats.lane(i);
-                    blocked |= u32::from(occlusion::occluded::<L::F8, S>(bvh, ray, stats)) << i;
-                }
+    level_task!(Task<'a, S: Counter>(bvh: &'a Bvh, rays: &'a [Ray], active: u32, stats: &'a mut S) -> u32 {
+        let mut blocked = 0;
+        for (i, ray) in rays.iter().enumerate() {
+            if active >> i & 1 == 1 {
+                stats.lane(i);
+                blocked |= u32::from(occlusion::occluded::<L::F8, S>(bvh, ray, stats)) << i;
             }
-            blocked
         }
-    }
+        blocked
+    });
 }
 
 /// [`intersect_packet`]'s task.
 mod packet_nearest {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, F: SimdFloat, S>(
-        pub(super) &'a Bvh,
-        pub(super) &'a RayPacket<F>,
-        pub(super) &'a mut S,
-    );
-    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
-        type Output = HitPacket<F>;
-        #[inline(always)]
-        fn run<L: Level>(self) -> HitPacket<F> {
-            let Task(bvh, rays, stats) = self;
-            at_width!(F, L, nearest_in(bvh, rays, stats))
-        }
-    }
+    level_task!(Task<'a, F: SimdFloat, S: Counter>(
+        bvh: &'a Bvh,
+        rays: &'a RayPacket<F>,
+        stats: &'a mut S,
+    ) -> HitPacket<F> {
+        at_width!(F, L, nearest_in(bvh, rays, stats))
+    });
 }
 
 /// [`occluded_packet`]'s task.
 mod packet_blocked {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, F: SimdFloat, S>(
-        pub(super) &'a Bvh,
-        pub(super) &'a RayPacket<F>,
-        pub(super) &'a mut S,
-    );
-    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
-        type Output = F;
-        #[inline(always)]
-        fn run<L: Level>(self) -> F {
-            let Task(bvh, rays, stats) = self;
-            at_width!(F, L, occluded_in(bvh, rays, stats))
-        }
-    }
+    level_task!(Task<'a, F: SimdFloat, S: Counter>(bvh: &'a Bvh, rays: &'a RayPacket<F>, stats: &'a mut S) -> F {
+        at_width!(F, L, occluded_in(bvh, rays, stats))
+    });
 }
 
 /// [`intersect_rays`]'s task.
 mod rays_nearest {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, F, S>(
-        pub(super) &'a Bvh,
-        pub(super) &'a [Ray],
-        pub(super) u32,
-        pub(super) &'a mut S,
-        pub(super) PhantomData<F>,
-    );
-    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
-        type Output = HitPacket<F>;
-        #[inline(always)]
-        fn run<L: Level>(self) -> HitPacket<F> {
-            let Task(bvh, rays, mask, stats, _) = self;
-            at_width!(F, L, nearest_of_rays(bvh, rays, mask, stats))
-        }
-    }
+    level_task!(Task<'a, F: SimdFloat, S: Counter>(
+        bvh: &'a Bvh,
+        rays: &'a [Ray],
+        mask: u32,
+        stats: &'a mut S,
+    ) -> HitPacket<F> {
+        at_width!(F, L, nearest_of_rays(bvh, rays, mask, stats))
+    });
 }
 
 /// [`occluded_rays`]'s task.
 mod rays_blocked {
     use crate::accel::bvh::dispatch::*;
-
-    pub(super) struct Task<'a, F, S>(
-        pub(super) &'a Bvh,
-        pub(super) &'a [Ray],
-        pub(super) u32,
-        pub(super) &'a mut S,
-        pub(super) PhantomData<F>,
-    );
-    impl<F: SimdFloat, S: Counter> LevelTask for Task<'_, F, S> {
-        type Output = F;
-        #[inline(always)]
-        fn run<L: Level>(self) -> F {
-            let Task(bvh, rays, mask, stats, _) = self;
-            at_width!(F, L, occluded_of_rays(bvh, rays, mask, stats))
-        }
-    }
+    level_task!(Task<'a, F: SimdFloat, S: Counter>(bvh: &'a Bvh, rays: &'a [Ray], mask: u32, stats: &'a mut S) -> F {
+        at_width!(F, L, occluded_of_rays(bvh, rays, mask, stats))
+    });
 }

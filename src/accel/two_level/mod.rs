@@ -46,7 +46,7 @@ use crate::geometry::transformed::Affine;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::scene::Scene;
-use crate::simd::isa::{Level, LevelTask};
+use crate::simd::isa::{Level, LevelTask, level_task};
 use crate::simd::{Simd8, SimdFloat};
 
 use placed::Placed;
@@ -256,27 +256,22 @@ mod tasks {
 
     // Each task in a module of its own, for the codegen units (as the BVH's,
     // `accel/bvh/dispatch.rs`).
-    pub use each_blocked::EachBlocked;
-    pub use each_nearest::Each;
-    pub use packet_blocked::PacketBlocked;
-    pub use packet_nearest::Packet;
+    pub(crate) use each_blocked::EachBlocked;
+    pub(crate) use each_nearest::Each;
+    pub(crate) use packet_blocked::PacketBlocked;
+    pub(crate) use packet_nearest::Packet;
 
     mod each_nearest {
         use super::*;
-
-        /// Nearest hits of the rays of `active`, one by one, into `hits`.
-        pub struct Each<'a, B, S>(
-            pub &'a TwoLevel<B>,
-            pub &'a [Ray],
-            pub u32,
-            pub &'a mut [Hit],
-            pub &'a mut S,
-        );
-        impl<B: BottomLevel, S: Counter> LevelTask for Each<'_, B, S> {
-            type Output = ();
-            #[inline(always)]
-            fn run<L: Level>(self) {
-                let Each(two_level, rays, active, hits, stats) = self;
+        level_task!(
+            /// Nearest hits of the rays of `active`, one by one, into `hits`.
+            Each<'a, B: BottomLevel, S: Counter>(
+                two_level: &'a TwoLevel<B>,
+                rays: &'a [Ray],
+                active: u32,
+                hits: &'a mut [Hit],
+                stats: &'a mut S,
+            ) -> () {
                 for (i, (ray, hit)) in rays.iter().zip(hits).enumerate() {
                     if active >> i & 1 == 1 {
                         stats.lane(i);
@@ -285,19 +280,19 @@ mod tasks {
                     }
                 }
             }
-        }
+        );
     }
 
     mod each_blocked {
         use super::*;
-
-        /// The blocked rays of `active`, one by one.
-        pub struct EachBlocked<'a, B, S>(pub &'a TwoLevel<B>, pub &'a [Ray], pub u32, pub &'a mut S);
-        impl<B: BottomLevel, S: Counter> LevelTask for EachBlocked<'_, B, S> {
-            type Output = u32;
-            #[inline(always)]
-            fn run<L: Level>(self) -> u32 {
-                let EachBlocked(two_level, rays, active, stats) = self;
+        level_task!(
+            /// The blocked rays of `active`, one by one.
+            EachBlocked<'a, B: BottomLevel, S: Counter>(
+                two_level: &'a TwoLevel<B>,
+                rays: &'a [Ray],
+                active: u32,
+                stats: &'a mut S,
+            ) -> u32 {
                 let mut blocked = 0;
                 for (i, ray) in rays.iter().enumerate() {
                     if active >> i & 1 == 1 {
@@ -307,41 +302,35 @@ mod tasks {
                 }
                 blocked
             }
-        }
+        );
     }
 
     mod packet_nearest {
         use super::*;
-
-        /// The nearest hits of a packet, in the level's lanes of its width.
-        pub struct Packet<'a, B, F: SimdFloat, S>(pub &'a TwoLevel<B>, pub &'a RayPacket<F>, pub &'a mut S);
-        impl<B: BottomLevel, F: SimdFloat, S: Counter> LevelTask for Packet<'_, B, F, S> {
-            type Output = HitPacket<F>;
-            #[inline(always)]
-            fn run<L: Level>(self) -> HitPacket<F> {
-                let Packet(two_level, rays, stats) = self;
+        level_task!(
+            /// The nearest hits of a packet, in the level's lanes of its width.
+            Packet<'a, B: BottomLevel, F: SimdFloat, S: Counter>(
+                two_level: &'a TwoLevel<B>,
+                rays: &'a RayPacket<F>,
+                stats: &'a mut S,
+            ) -> HitPacket<F> {
                 at_width!(F, L, nearest_in(two_level, rays, stats))
             }
-        }
+        );
     }
 
     mod packet_blocked {
         use super::*;
-
-        /// The blocked lanes of a packet, in the level's lanes of its width.
-        pub struct PacketBlocked<'a, B, F: SimdFloat, S>(
-            pub &'a TwoLevel<B>,
-            pub &'a RayPacket<F>,
-            pub &'a mut S,
-        );
-        impl<B: BottomLevel, F: SimdFloat, S: Counter> LevelTask for PacketBlocked<'_, B, F, S> {
-            type Output = F;
-            #[inline(always)]
-            fn run<L: Level>(self) -> F {
-                let PacketBlocked(two_level, rays, stats) = self;
+        level_task!(
+            /// The blocked lanes of a packet, in the level's lanes of its width.
+            PacketBlocked<'a, B: BottomLevel, F: SimdFloat, S: Counter>(
+                two_level: &'a TwoLevel<B>,
+                rays: &'a RayPacket<F>,
+                stats: &'a mut S,
+            ) -> F {
                 at_width!(F, L, blocked_in(two_level, rays, stats))
             }
-        }
+        );
     }
 
     #[inline(always)]
@@ -368,7 +357,7 @@ impl<B: BottomLevel> Accel for TwoLevel<B> {
         let mut hit = Hit::none(ray);
         let hits = std::slice::from_mut(&mut hit);
         counted_once(stats, 1, false, |stats| {
-            self.on_level(tasks::Each(self, std::slice::from_ref(ray), 1, hits, stats))
+            self.on_level(tasks::Each::new(self, std::slice::from_ref(ray), 1, hits, stats))
         });
         hit
     }
@@ -380,35 +369,35 @@ impl<B: BottomLevel> Accel for TwoLevel<B> {
     ) -> HitPacket<F> {
         let lanes = u64::from(rays.active.bitmask().count_ones());
         counted_once(stats, lanes, true, |stats| {
-            self.on_level(tasks::Packet(self, rays, stats))
+            self.on_level(tasks::Packet::new(self, rays, stats))
         })
     }
 
     fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         let ray = std::slice::from_ref(ray);
         counted_once(stats, 1, false, |stats| {
-            self.on_level(tasks::EachBlocked(self, ray, 1, stats)) == 1
+            self.on_level(tasks::EachBlocked::new(self, ray, 1, stats)) == 1
         })
     }
 
     fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
         let lanes = u64::from(rays.active.bitmask().count_ones());
         counted_once(stats, lanes, true, |stats| {
-            self.on_level(tasks::PacketBlocked(self, rays, stats))
+            self.on_level(tasks::PacketBlocked::new(self, rays, stats))
         })
     }
 
     fn intersect_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
         let count = u64::from(active.count_ones());
         counted_once(stats, count, false, |stats| {
-            self.on_level(tasks::Each(self, rays, active, hits, stats))
+            self.on_level(tasks::Each::new(self, rays, active, hits, stats))
         });
     }
 
     fn occluded_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
         let count = u64::from(active.count_ones());
         counted_once(stats, count, false, |stats| {
-            self.on_level(tasks::EachBlocked(self, rays, active, stats))
+            self.on_level(tasks::EachBlocked::new(self, rays, active, stats))
         })
     }
 }
