@@ -24,7 +24,7 @@ use glam::Vec3;
 
 use crate::bounds::Aabb;
 use crate::geometry::ear_clip::{EarClipError, ear_clip};
-use crate::geometry::triangle_watertight::WatertightTriangle;
+use crate::geometry::triangle_watertight::{ShearedRay, WatertightTriangle};
 use crate::geometry::{
     GeometryError, Intersect, Triangle, TriangleTest, usable_denominator, usable_denominators,
 };
@@ -220,9 +220,11 @@ impl Intersect for Polygon {
     #[inline]
     fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         if let Some(pieces) = self.watertight_pieces() {
+            // The ray's shear frame, made once for all the pieces.
+            let frame = ShearedRay::new(ray);
             let mut any = false;
             for &[a, b, c] in pieces {
-                any |= WatertightTriangle::new(a, b, c).intersect(ray, prim, hit);
+                any |= WatertightTriangle::new(a, b, c).intersect_in(&frame, ray, prim, hit);
             }
             return any;
         }

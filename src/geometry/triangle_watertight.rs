@@ -192,11 +192,12 @@ where
     n[0] * p[0] + n[1] * p[1] + n[2] * p[2]
 }
 
-impl crate::geometry::Intersect for WatertightTriangle {
-    /// Scalar kernel.
+impl WatertightTriangle {
+    /// The scalar kernel in `frame`, `ray`'s shear frame
+    /// ([`ShearedRay::new`]), made once for several triangles (a polygon's
+    /// pieces).
     #[inline]
-    fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
-        let frame = ShearedRay::new(ray);
+    pub fn intersect_in(&self, frame: &ShearedRay, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
         if !frame.is_usable() {
             return false;
         }
@@ -224,6 +225,14 @@ impl crate::geometry::Intersect for WatertightTriangle {
         }
         hit.record(t, prim, v * inverse, w * inverse);
         true
+    }
+}
+
+impl crate::geometry::Intersect for WatertightTriangle {
+    /// Scalar kernel.
+    #[inline]
+    fn intersect(&self, ray: &Ray, prim: u32, hit: &mut Hit) -> bool {
+        self.intersect_in(&ShearedRay::new(ray), ray, prim, hit)
     }
 
     /// Packet kernel: one triangle against every active lane.
