@@ -3,21 +3,28 @@
 # with cargo-fuzz (nightly, AddressSanitizer, debug assertions) and runs each
 # for SECONDS under `nice -n 19`, one process at a time, then prints per target
 # the executions, libFuzzer's final coverage (cov: edges, ft: features) and the
-# crashes found. Exits 1 if any target crashed, hung (> 1 s per input) or went
-# over 1 GiB of memory; the inputs are left in fuzz/artifacts/TARGET/.
+# crashes found. Exits 1 if any target crashed, hung (past the per-input
+# limit below) or went over 1 GiB of memory; the inputs are left in
+# fuzz/artifacts/TARGET/.
 #
 #   scripts/fuzz.sh SECONDS [TARGET...]     (default: every target)
 #
-# FUZZ_TIMEOUT (seconds, default 1) is libFuzzer's per-input limit. It counts
-# wall-clock time, so on a machine busy with other work a niced fuzzer can be
-# starved past 1 s on an input that takes milliseconds: give it more there, and
-# replay the corpus on a quiet machine with the 1 s limit afterwards
-# (scripts/fuzz.sh 0 replays each target's corpus once and runs nothing new).
+# FUZZ_TIMEOUT (seconds; default 1, 10 for the dev build below) is
+# libFuzzer's per-input limit. It counts wall-clock time, so on a machine busy
+# with other work a niced fuzzer can be starved past 1 s on an input that takes
+# milliseconds: give it more there, and replay the corpus on a quiet machine
+# with the 1 s limit afterwards (scripts/fuzz.sh 0 replays each target's
+# corpus once, in the release build, and runs nothing new).
 # FUZZ_CODEGEN_UNITS (default 16) is the build's codegen units, see below.
+# FUZZ_BUILD (dev or release) is the build: by default `dev` (optimisation
+# level 0) for runs of 1 to 60 seconds, such as CI's, and `release` (level 1)
+# for longer ones and for replays (fuzz/Cargo.toml). The dev build compiles in
+# a quarter of the time and runs each input 10-40 times slower, so its
+# default per-input limit is 10 s.
 #
 # Corpora: fuzz/corpus/TARGET (git-ignored, grows from run to run) on top of
 # the seeds: fuzz/seeds/ (committed), scenes/ and tests/data/.
-# Reproduce a crash: fuzz/target/x86_64-unknown-linux-gnu/release/TARGET FILE
+# Reproduce a crash: fuzz/target/x86_64-unknown-linux-gnu/{debug,release}/TARGET FILE
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -44,9 +51,21 @@ declare -A max_len=(
 # every core but one idle while LLVM works through the library; 16 units
 # build faster, for fuzzers a little slower per input (FUZZ_CODEGEN_UNITS=1
 # for long runs where that matters more than the build).
-(cd fuzz && nice -n 19 cargo +nightly fuzz build -O -a \
+build=${FUZZ_BUILD:-release}
+if [[ -z ${FUZZ_BUILD:-} && $seconds -ge 1 && $seconds -le 60 ]]; then
+    build=dev
+fi
+case $build in
+    dev) profile=(--dev) timeout=${FUZZ_TIMEOUT:-10} ;;
+    release) profile=(-O) timeout=${FUZZ_TIMEOUT:-1} ;;
+    *)
+        echo "FUZZ_BUILD must be dev or release, not $build" >&2
+        exit 2
+        ;;
+esac
+(cd fuzz && nice -n 19 cargo +nightly fuzz build "${profile[@]}" -a \
     --codegen-units "${FUZZ_CODEGEN_UNITS:-16}" >&2)
-bin_dir=fuzz/target/x86_64-unknown-linux-gnu/release
+bin_dir=fuzz/target/x86_64-unknown-linux-gnu/$([[ $build == dev ]] && echo debug || echo release)
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -94,7 +113,7 @@ for target in "${targets[@]}"; do
         cd "$work/$target"
         nice -n 19 "$bin" "$OLDPWD/$corpus" "${seed_dirs[@]/#fuzz/$OLDPWD/fuzz}" \
             "$duration" -max_len="${max_len[$target]}" \
-            -rss_limit_mb=1024 -malloc_limit_mb=1024 -timeout="${FUZZ_TIMEOUT:-1}" \
+            -rss_limit_mb=1024 -malloc_limit_mb=1024 -timeout="$timeout" \
             -jobs=1 -workers=1 -print_final_stats=1 \
             -artifact_prefix="$OLDPWD/$artifacts/" >/dev/null 2>&1
     ) || true
