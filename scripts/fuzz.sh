@@ -56,8 +56,8 @@ if [[ -z ${FUZZ_BUILD:-} && $seconds -ge 1 && $seconds -le 60 ]]; then
     build=dev
 fi
 case $build in
-    dev) profile=(--dev) timeout=${FUZZ_TIMEOUT:-10} ;;
-    release) profile=(-O) timeout=${FUZZ_TIMEOUT:-1} ;;
+    dev) profile=(--dev) out=debug timeout=${FUZZ_TIMEOUT:-10} ;;
+    release) profile=(-O) out=release timeout=${FUZZ_TIMEOUT:-1} ;;
     *)
         echo "FUZZ_BUILD must be dev or release, not $build" >&2
         exit 2
@@ -65,7 +65,7 @@ case $build in
 esac
 (cd fuzz && nice -n 19 cargo +nightly fuzz build "${profile[@]}" -a \
     --codegen-units "${FUZZ_CODEGEN_UNITS:-16}" >&2)
-bin_dir=fuzz/target/x86_64-unknown-linux-gnu/$([[ $build == dev ]] && echo debug || echo release)
+bin_dir=fuzz/target/x86_64-unknown-linux-gnu/$out
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
