@@ -15,6 +15,7 @@ use crate::accel::bvh::wide::ChildRef;
 use crate::accel::stats::Counter;
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
+use crate::simd::isa::level_task;
 
 /// Test `leaf` on each lane of the mask `lanes` with the lane's own
 /// single-ray query (reporting each to [`Counter::lane`]).
@@ -37,10 +38,45 @@ pub fn leaf_lane_by_lane<F: SimdFloat, Q: LaneQueries<F>, S: Counter>(
     }
 }
 
+/// [`traverse_interleaved`] of `walks` under `start`, in an entry point of its
+/// own on the tree's level: the walks' stacks, 24 KiB, stay out of the frame
+/// of every packet query, which would be probed page by page at each call,
+/// and a packet entering an instance makes one (docs/measurements.md, "The
+/// interleaved walks' own entry point").
+#[inline(always)]
+fn interleaved_walks<R: RayQuery, W: TreeWidth, S: Counter>(
+    bvh: &Bvh,
+    start: ChildRef,
+    walks: &mut [(usize, SlabRay, R)],
+    stats: &mut S,
+) -> u32 {
+    // SAFETY: a Bvh's level is one this CPU runs (`Bvh::set_isa` and
+    // `Isa::default_level` check it).
+    unsafe {
+        bvh.isa()
+            .run(interleaved::Task::<R, W, S>::new(bvh, start, walks, stats))
+    }
+}
+
+/// [`interleaved_walks`]' task (a module of its own: the codegen unit of its
+/// entry points).
+mod interleaved {
+    use crate::accel::bvh::lanes::*;
+    level_task!(Task<'a, R: RayQuery, W: TreeWidth, S: Counter>(
+        bvh: &'a Bvh,
+        start: ChildRef,
+        walks: &'a mut [(usize, SlabRay, R)],
+        stats: &'a mut S,
+    ) -> u32 {
+        traverse_interleaved::<L::F8, W, R, S>(bvh, start, walks, stats)
+    });
+}
+
 /// Trace the lanes of the mask `lanes` through the subtree of the wide tree
 /// of width `W` under `start` (whose box they met) as single rays (reporting
 /// each to [`Counter::lane`]), with `F`'s 8-lane type: up to [`INTERLEAVED`]
-/// at once ([`traverse_interleaved`]) with `interleaved`, else one after the other.
+/// at once with `interleaved` ([`traverse_interleaved`], in an entry point of
+/// its own), else one after the other.
 #[inline(always)]
 pub fn finish_lanes<F: SimdFloat, Q: LaneQueries<F>, W: TreeWidth, S: Counter>(
     query: &mut Q,
@@ -76,7 +112,7 @@ pub fn finish_lanes<F: SimdFloat, Q: LaneQueries<F>, W: TreeWidth, S: Counter>(
             let hit = records.next().expect("one record per walk");
             (group[k], SlabRay::new(ray), query.query(ray, hit))
         });
-        let ended = traverse_interleaved::<F::Lanes8, W, _, S>(bvh, start, &mut walks[..count], stats);
+        let ended = interleaved_walks::<_, W, S>(bvh, start, &mut walks[..count], stats);
         drop(walks);
         for (k, &lane) in group[..count].iter().enumerate() {
             query.end(lane, &hits[k], ended >> k & 1 == 1);
