@@ -3,6 +3,8 @@
 //! by few lanes ([`leaf_lane_by_lane`]) and the single-ray walk of the lanes a
 //! packet leaves alone below a node ([`finish_lanes`]).
 
+use std::mem::MaybeUninit;
+
 use glam::Vec3;
 
 use crate::accel::bvh::leaf::LeafRef;
@@ -106,14 +108,18 @@ pub fn finish_lanes<F: SimdFloat, Q: LaneQueries<F>, W: TreeWidth, S: Counter>(
             rays[k] = query.rays().ray(group[k]);
             hits[k] = query.start(group[k], &rays[k]);
         }
-        let mut records = hits.iter_mut();
-        let mut walks: [(usize, SlabRay, Q::Lane<'_>); INTERLEAVED] = std::array::from_fn(|k| {
-            let ray = &rays[k];
-            let hit = records.next().expect("one record per walk");
-            (group[k], SlabRay::new(ray), query.query(ray, hit))
-        });
-        let ended = interleaved_walks::<_, W, S>(bvh, start, &mut walks[..count], stats);
-        drop(walks);
+        // The walks of the group's lanes only, made by a plain loop: a
+        // closure (`array::from_fn`) stayed a function of its own, outside
+        // the entry point, made all eight walks and cost a call each.
+        let mut walks = [const { MaybeUninit::<(usize, SlabRay, Q::Lane<'_>)>::uninit() }; INTERLEAVED];
+        for (k, (walk, hit)) in walks.iter_mut().zip(hits.iter_mut()).take(count).enumerate() {
+            walk.write((group[k], SlabRay::new(&rays[k]), query.query(&rays[k], hit)));
+        }
+        // SAFETY: the loop wrote the first `count` walks; the queries own
+        // nothing to drop (`MaybeUninit` drops nothing either way).
+        let made: &mut [(usize, SlabRay, Q::Lane<'_>)] =
+            unsafe { std::slice::from_raw_parts_mut(walks.as_mut_ptr().cast(), count) };
+        let ended = interleaved_walks::<_, W, S>(bvh, start, made, stats);
         for (k, &lane) in group[..count].iter().enumerate() {
             query.end(lane, &hits[k], ended >> k & 1 == 1);
         }
