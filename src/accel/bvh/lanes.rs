@@ -115,8 +115,8 @@ pub fn finish_lanes<F: SimdFloat, Q: LaneQueries<F>, W: TreeWidth, S: Counter>(
         for (k, (walk, hit)) in walks.iter_mut().zip(hits.iter_mut()).take(count).enumerate() {
             walk.write((group[k], SlabRay::new(&rays[k]), query.query(&rays[k], hit)));
         }
-        // SAFETY: the loop wrote the first `count` walks; the queries own
-        // nothing to drop (`MaybeUninit` drops nothing either way).
+        // SAFETY: the loop wrote the first `count` walks (`lane_groups` gives
+        // at most INTERLEAVED lanes); a query left undropped only leaks.
         let made: &mut [(usize, SlabRay, Q::Lane<'_>)] =
             unsafe { std::slice::from_raw_parts_mut(walks.as_mut_ptr().cast(), count) };
         let ended = interleaved_walks::<_, W, S>(bvh, start, made, stats);
