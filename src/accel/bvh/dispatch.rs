@@ -10,6 +10,7 @@
 //! for bit. Every level computes the same operations in the same order (no
 //! fused multiply-adds), so every level gives the same hits.
 
+use crate::accel::bvh::query::Scope;
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::{occlusion, traverse_packet, traverse_single};
 use crate::accel::stats::Counter;
@@ -77,10 +78,15 @@ fn nearest_in<G: SimdFloat>(
     traverse_packet::intersect_packet(bvh, &rays.convert::<G>(), stats)
 }
 
-/// The occluded lanes of `rays`, in the lanes `G`.
+/// The occluded lanes of `rays` in `bvh`, a tree of `scope`, in the lanes `G`.
 #[inline(always)]
-fn occluded_in<G: SimdFloat>(bvh: &Bvh, rays: &RayPacket<impl SimdFloat>, stats: &mut impl Counter) -> G {
-    occlusion::occluded_packet(bvh, &rays.convert::<G>(), stats)
+fn occluded_in<G: SimdFloat>(
+    bvh: &Bvh,
+    rays: &RayPacket<impl SimdFloat>,
+    scope: Scope,
+    stats: &mut impl Counter,
+) -> G {
+    occlusion::occluded_packet(bvh, &rays.convert::<G>(), scope, stats)
 }
 
 /// The nearest hits of the rays of `rays` in `mask`, packed in the lanes `G`.
@@ -97,7 +103,12 @@ fn nearest_of_rays<G: SimdFloat>(
 /// The occluded rays of `rays` in `mask`, packed in the lanes `G`.
 #[inline(always)]
 fn occluded_of_rays<G: SimdFloat>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut impl Counter) -> G {
-    occlusion::occluded_packet(bvh, &RayPacket::<G>::from_rays_masked(rays, mask), stats)
+    occlusion::occluded_packet(
+        bvh,
+        &RayPacket::<G>::from_rays_masked(rays, mask),
+        Scope::World,
+        stats,
+    )
 }
 
 /// The nearest hits of the active lanes of `rays`.
@@ -110,10 +121,16 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
     on_level(bvh, packet_nearest::Task::new(bvh, rays, stats))
 }
 
-/// The mask of active lanes of `rays` on which something lies within `[t_min, t_max]`.
+/// The mask of active lanes of `rays` on which something lies within
+/// `[t_min, t_max]`, in `bvh`, a tree of `scope`.
 #[inline(always)]
-pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> F {
-    on_level(bvh, packet_blocked::Task::new(bvh, rays, stats))
+pub fn occluded_packet<F: SimdFloat, S: Counter>(
+    bvh: &Bvh,
+    rays: &RayPacket<F>,
+    scope: Scope,
+    stats: &mut S,
+) -> F {
+    on_level(bvh, packet_blocked::Task::new(bvh, rays, scope, stats))
 }
 
 /// [`Accel::intersect_rays_counted`](crate::accel::Accel::intersect_rays_counted):
@@ -206,8 +223,13 @@ mod packet_nearest {
 /// [`occluded_packet`]'s task.
 mod packet_blocked {
     use crate::accel::bvh::dispatch::*;
-    level_task!(Task<'a, F: SimdFloat, S: Counter>(bvh: &'a Bvh, rays: &'a RayPacket<F>, stats: &'a mut S) -> F {
-        at_width!(F, L, occluded_in(bvh, rays, stats))
+    level_task!(Task<'a, F: SimdFloat, S: Counter>(
+        bvh: &'a Bvh,
+        rays: &'a RayPacket<F>,
+        scope: Scope,
+        stats: &'a mut S,
+    ) -> F {
+        at_width!(F, L, occluded_in(bvh, rays, scope, stats))
     });
 }
 

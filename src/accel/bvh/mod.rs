@@ -60,6 +60,7 @@ pub use build_sah::{BuildOptions, MAX_DEPTH, SMALL_SCENE_PRIMITIVES};
 pub use tree::{Bvh, BvhInfo};
 
 use crate::accel::Accel;
+use crate::accel::bvh::query::Scope;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
@@ -113,6 +114,6 @@ impl Accel for Bvh {
 
     #[inline]
     fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
-        dispatch::occluded_packet(self, rays, stats)
+        dispatch::occluded_packet(self, rays, Scope::World, stats)
     }
 }

@@ -5,7 +5,7 @@
 
 use crate::accel::bvh::lanes::leaf_lane_by_lane;
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::query::{LaneQueries, PacketQuery, RayQuery};
+use crate::accel::bvh::query::{LaneQueries, PacketQuery, RayQuery, Scope};
 use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::trace;
 use crate::accel::bvh::tree::Bvh;
@@ -66,6 +66,8 @@ struct AnyHitPacket<F: SimdFloat> {
     hits: HitPacket<F>,
     /// The lanes not yet found occluded.
     pending: F,
+    /// Whose tree the packet walks.
+    scope: Scope,
 }
 
 impl<F: SimdFloat> LaneQueries<F> for AnyHitPacket<F> {
@@ -102,6 +104,11 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     const NEAREST_FIRST: bool = false;
 
     #[inline(always)]
+    fn scope(&self) -> Scope {
+        self.scope
+    }
+
+    #[inline(always)]
     fn t_max(&self) -> F {
         self.rays.t_max
     }
@@ -133,15 +140,22 @@ impl<F: SimdFloat> PacketQuery<F> for AnyHitPacket<F> {
     }
 }
 
-/// The mask of active lanes of `rays` on which something lies within `[t_min, t_max]`.
+/// The mask of active lanes of `rays` on which something lies within
+/// `[t_min, t_max]`, in `bvh`, a tree of `scope`.
 #[inline(always)]
-pub fn occluded_packet<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &RayPacket<F>, stats: &mut S) -> F {
+pub fn occluded_packet<F: SimdFloat, S: Counter>(
+    bvh: &Bvh,
+    rays: &RayPacket<F>,
+    scope: Scope,
+    stats: &mut S,
+) -> F {
     stats.rays(u64::from(rays.active.bitmask().count_ones()));
     stats.packet();
     let mut query = AnyHitPacket {
         rays: *rays,
         hits: HitPacket::none(rays),
         pending: rays.active,
+        scope,
     };
     trace_packet(bvh, rays, &mut query, stats);
     rays.active.and_not(query.pending)

@@ -56,6 +56,13 @@ pub trait PacketQuery<F: SimdFloat>: LaneQueries<F> {
     /// Whether children are visited nearest first (see [`RayQuery::NEAREST_FIRST`]).
     const NEAREST_FIRST: bool = true;
 
+    /// Whose tree the packet walks (the walk of coherent any-hit packets
+    /// depends on it, see [`traverse_packet`](crate::accel::bvh::traverse_packet)).
+    #[inline(always)]
+    fn scope(&self) -> Scope {
+        Scope::World
+    }
+
     /// Per lane, the largest t still of interest.
     fn t_max(&self) -> F;
 
@@ -64,6 +71,16 @@ pub trait PacketQuery<F: SimdFloat>: LaneQueries<F> {
 
     /// Test the leaf primitives `prims` on the lanes of `mask`.
     fn leaf<S: Counter>(&mut self, bvh: &Bvh, leaf: LeafRef, mask: F, stats: &mut S);
+}
+
+/// Whose tree a packet walks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scope {
+    /// The world's: a scene's own tree, or the top tree over its instances.
+    World,
+    /// An instance's mesh, entered from a top tree (by the lanes that met
+    /// the instance, one mesh after another).
+    Instance,
 }
 
 /// Most rays [`traverse_interleaved`](crate::accel::bvh::traverse_single::traverse_interleaved)

@@ -24,15 +24,21 @@ use crate::simd::SimdFloat;
 
 /// A subtree wanted by this many lanes or fewer is finished by them as single
 /// rays: with so few lanes, a box test for all of them costs more than the
-/// loads it shares.
+/// loads it shares (incoherent packets; see [`LaneWalk::Shared`]).
 pub const SINGLE_RAY_LANES: u32 = 2;
 
 /// How a packet's lanes set out from the root of the wide tree.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LaneWalk {
     /// Together, sharing each node's test until a subtree is wanted by
-    /// [`SINGLE_RAY_LANES`] lanes or fewer (secondary rays from nearby points).
-    Shared,
+    /// `single_ray_lanes` lanes or fewer: [`SINGLE_RAY_LANES`] for secondary
+    /// rays from nearby points; 0 (never apart) for coherent any-hit
+    /// packets in a large tree, whose lanes mostly stay together down to
+    /// the leaves.
+    Shared {
+        /// Lanes few enough to finish a subtree as single rays.
+        single_ray_lanes: u32,
+    },
     /// Each lane alone through the whole tree, one after the other: rays that
     /// share no node below the root, in a tree that stays in the caches.
     Apart,
@@ -71,10 +77,9 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     let mut next = ChildRef::ROOT;
     let mut active = lanes;
     // Lanes that share nothing are handed over at the root (nothing is pushed).
-    let single_ray_lanes = if walk == LaneWalk::Shared {
-        SINGLE_RAY_LANES
-    } else {
-        u32::MAX
+    let single_ray_lanes = match walk {
+        LaneWalk::Shared { single_ray_lanes } => single_ray_lanes,
+        LaneWalk::Apart | LaneWalk::ApartInterleaved => u32::MAX,
     };
     loop {
         let bits = active.bitmask();

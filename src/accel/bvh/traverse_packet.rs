@@ -12,9 +12,13 @@
 //!   packet while enough lanes share a subtree and as single rays below
 //!   ([`traverse_hybrid`]), faster than tracing its lanes as single rays from
 //!   the root, which was faster than dragging sparse packets down the binary
-//!   tree. So does every any-hit packet, coherent or not (faster on meshes,
-//!   a little slower on sphere scenes).
-//!   Coherent nearest-hit packets never fall back (see [`RayPacket::is_coherent`]).
+//!   tree. Coherent nearest-hit packets never fall back (see [`RayPacket::is_coherent`]).
+//! - A coherent any-hit packet (shadow rays from a pixel block to one light)
+//!   in the world's tree ([`Scope::World`]) walks the binary tree too where
+//!   the tree is small ([`Bvh::is_small`]), and the wide tree as one packet
+//!   to the leaves where it is large. In an instance's mesh, and for
+//!   incoherent any-hit packets, it takes the hybrid walk (figures:
+//!   `docs/measurements.md`, "Constants").
 //! - A packet of rays from all over the scene ([`RayPacket::is_scattered`]) shares no
 //!   node below the root: its lanes walk the wide tree as single rays,
 //!   interleaved so that their cache misses overlap
@@ -25,10 +29,10 @@
 use crate::accel::bvh::lanes::leaf_lane_by_lane;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::node::{NodeId, ROOT};
-use crate::accel::bvh::query::{LaneQueries, PacketQuery};
+use crate::accel::bvh::query::{LaneQueries, PacketQuery, Scope};
 use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{BINARY_STACK_SLOTS, TraversalStack};
-use crate::accel::bvh::traverse_hybrid::{LaneWalk, traverse_hybrid};
+use crate::accel::bvh::traverse_hybrid::{LaneWalk, SINGLE_RAY_LANES, traverse_hybrid};
 use crate::accel::bvh::traverse_single::Nearest;
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
@@ -78,14 +82,23 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     if mask.none() {
         return;
     }
-    if !Q::NEAREST_FIRST || !rays.is_coherent() {
-        // Incoherent rays part ways too soon for the binary tree, and any-hit
-        // rays, which need no order, meet fewer nodes in the wide one. Rays
+    let coherent = rays.is_coherent();
+    // Coherent any-hit packets in the world's tree keep together: down the
+    // binary tree in a small one, never apart in the wide one of a large
+    // one. In an instance's mesh their lanes part at its surface (a forest's
+    // shadow rays through its canopies), where the hybrid walk's fallback wins.
+    let world_shadow = !Q::NEAREST_FIRST && coherent && query.scope() == Scope::World;
+    let binary = coherent && (Q::NEAREST_FIRST || (world_shadow && bvh.is_small()));
+    if !binary {
+        // Incoherent rays part ways too soon for the binary tree, and other
+        // any-hit rays, which need no order, meet fewer nodes in the wide one. Rays
         // from all over the scene share nothing below the root: they walk it
         // as single rays, interleaved where the tree is large. Else the
         // hybrid traversal shares what the lanes do share.
         let walk = if !rays.is_scattered(&bvh.bounds()) {
-            LaneWalk::Shared
+            LaneWalk::Shared {
+                single_ray_lanes: if world_shadow { 0 } else { SINGLE_RAY_LANES },
+            }
         } else if bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES {
             LaneWalk::ApartInterleaved
         } else {
@@ -270,6 +283,69 @@ mod tests {
     fn scattered_packets_answer_and_count_as_their_single_rays() {
         scattered_packets_agree::<wide::f32x8>();
         scattered_packets_agree::<wide::f32x16>();
+    }
+
+    /// Coherent packets of any-hit rays, as shadow rays from a pixel block's
+    /// hits to one light make (some bounded at the light, some not, a lane
+    /// or two off): in the world's small tree they walk the binary tree, in
+    /// a large one the wide tree without falling back, in an instance's mesh
+    /// the hybrid walk; every lane's occlusion is its single ray's in each.
+    #[test]
+    fn coherent_any_hit_packets_answer_as_their_single_rays() {
+        use crate::accel::bvh::dispatch::occluded_packet;
+        use crate::accel::bvh::query::Scope;
+        use crate::accel::{Accel, Bvh, TraversalCounter};
+        use crate::packet::RayPacket8;
+        use crate::scene::generate::random;
+        use glam::Vec3;
+        let mut rng = Rng::new(13);
+        for (prims, small) in [
+            (random::bumpy_sphere(3_000, 3), true),
+            (random::bumpy_sphere(150_000, 4), false),
+        ] {
+            let bvh = Bvh::new(&prims);
+            assert_eq!(bvh.is_small(), small, "{} primitives", prims.len());
+            let bounds = bvh.bounds();
+            let diagonal = (bounds.max - bounds.min).length();
+            let mut fallbacks = [0; 2];
+            let mut coherent = 0;
+            for _ in 0..600 {
+                let light = bounds.max + 2.0 * diagonal * rng.unit_vector();
+                let centre = rng.point_in(bounds.min, bounds.max);
+                let spread = 0.01 * diagonal;
+                let rays: Vec<Ray> = (0..8)
+                    .map(|_| {
+                        let origin = centre + rng.point_in(Vec3::splat(-spread), Vec3::splat(spread));
+                        let to_light = light - origin;
+                        let t_max = if rng.below(3) == 0 {
+                            f32::INFINITY
+                        } else {
+                            to_light.length()
+                        };
+                        Ray::new(origin, to_light.normalize(), 1e-4, t_max)
+                    })
+                    .collect();
+                let active = if rng.below(4) == 0 { 0b0111_1011 } else { 0xff };
+                let packet = RayPacket8::from_rays_masked(&rays, active);
+                coherent += usize::from(packet.is_coherent());
+                for (scope, fallback) in [Scope::World, Scope::Instance].into_iter().zip(&mut fallbacks) {
+                    let mut stats = TraversalCounter::totals();
+                    let occluded = occluded_packet(&bvh, &packet, scope, &mut stats).bitmask();
+                    *fallback += stats.total().fallback_rays;
+                    for (lane, ray) in rays.iter().enumerate().filter(|(l, _)| active >> l & 1 == 1) {
+                        assert_eq!(
+                            occluded >> lane & 1 == 1,
+                            bvh.occluded(ray),
+                            "{scope:?}, lane {lane} of {rays:?}"
+                        );
+                    }
+                }
+            }
+            assert!(coherent > 500, "{coherent} of 600 packets coherent");
+            // The world's packets keep their lanes together; an instance's part.
+            assert_eq!(fallbacks[0], 0, "world");
+            assert!(fallbacks[1] > 0, "instance");
+        }
     }
 
     fn scattered_packets_agree<F: SimdFloat>() {

@@ -3,6 +3,7 @@
 //! reads every traversal makes of them. Built by [`builder`](super::builder);
 //! walked by the traversals above it.
 
+use crate::accel::bvh::build_sah::SMALL_SCENE_PRIMITIVES;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::leaf_store::LeafStore;
 use crate::accel::bvh::node::{Node, NodeId, NodePair, ROOT, node_in};
@@ -106,6 +107,13 @@ impl Bvh {
     #[inline(always)]
     pub fn walked_bytes(&self) -> usize {
         size_of_val(self.ray_tree.as_slice()) + self.leaves.bytes()
+    }
+
+    /// Whether the tree holds fewer primitives than [`SMALL_SCENE_PRIMITIVES`]:
+    /// a small scene's tree (leaves of up to 4), which stays in the caches.
+    #[inline(always)]
+    pub fn is_small(&self) -> bool {
+        self.bounded < SMALL_SCENE_PRIMITIVES
     }
 
     /// The instruction set queries run on: [`Isa::default_level`] when built.

@@ -10,7 +10,8 @@
 //! level's types, a level's intrinsics inside another level's entry point
 //! (tests/cli/inlining.rs).
 
-use crate::accel::bvh::dispatch::at_width;
+use crate::accel::bvh::dispatch::{self, at_width};
+use crate::accel::bvh::query::Scope;
 use crate::accel::bvh::{occlusion, traverse_single};
 use crate::accel::stats::Counter;
 use crate::accel::{Accel, BruteForce, Bvh};
@@ -26,6 +27,14 @@ pub trait BottomLevel: Accel {
     fn intersect_into_on<N: Simd8, S: Counter>(&self, ray: &Ray, hit: &mut Hit, stats: &mut S);
     /// Whether anything lies on `ray` within `[t_min, t_max]`.
     fn occluded_on<N: Simd8, S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool;
+    /// [`Accel::occluded_packet_counted`] in this structure as a tree of
+    /// `scope` (the world's own primitives, or an instance's mesh).
+    fn occluded_packet_in<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        scope: Scope,
+        stats: &mut S,
+    ) -> F;
 }
 
 /// raypack's BVH: its traversals, compiled into the caller's entry point.
@@ -39,6 +48,16 @@ impl BottomLevel for Bvh {
     fn occluded_on<N: Simd8, S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         occlusion::occluded::<N, S>(self, ray, stats)
     }
+
+    #[inline(always)]
+    fn occluded_packet_in<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        scope: Scope,
+        stats: &mut S,
+    ) -> F {
+        dispatch::occluded_packet(self, rays, scope, stats)
+    }
 }
 
 /// The reference: every primitive tested, whatever the lane types.
@@ -49,6 +68,15 @@ impl BottomLevel for BruteForce<'_> {
 
     fn occluded_on<N: Simd8, S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         self.occluded_counted(ray, stats)
+    }
+
+    fn occluded_packet_in<F: SimdFloat, S: Counter>(
+        &self,
+        rays: &RayPacket<F>,
+        _: Scope,
+        stats: &mut S,
+    ) -> F {
+        self.occluded_packet_counted(rays, stats)
     }
 }
 
@@ -63,14 +91,16 @@ pub(super) fn nearest_packet<F: SimdFloat, S: Counter>(
     at_width!(F, PortableLanes, nearest_in(structure, rays, stats))
 }
 
-/// The blocked lanes of `rays` in `structure`, as [`nearest_packet`] enters it.
+/// The blocked lanes of `rays` in `structure`, a tree of `scope`, as
+/// [`nearest_packet`] enters it.
 #[inline(always)]
 pub(super) fn blocked_packet<F: SimdFloat, S: Counter>(
-    structure: &impl Accel,
+    structure: &impl BottomLevel,
     rays: &RayPacket<F>,
+    scope: Scope,
     stats: &mut S,
 ) -> F {
-    at_width!(F, PortableLanes, blocked_in(structure, rays, stats))
+    at_width!(F, PortableLanes, blocked_in(structure, rays, scope, stats))
 }
 
 #[inline(always)]
@@ -84,9 +114,10 @@ fn nearest_in<G: SimdFloat>(
 
 #[inline(always)]
 fn blocked_in<G: SimdFloat>(
-    structure: &impl Accel,
+    structure: &impl BottomLevel,
     rays: &RayPacket<impl SimdFloat>,
+    scope: Scope,
     stats: &mut impl Counter,
 ) -> G {
-    structure.occluded_packet_counted(&rays.convert::<G>(), stats)
+    structure.occluded_packet_in(&rays.convert::<G>(), scope, stats)
 }

@@ -37,6 +37,7 @@ use crate::accel::Accel;
 use crate::accel::bvh::Bvh;
 use crate::accel::bvh::build_sah::BuildOptions;
 use crate::accel::bvh::dispatch::at_width;
+use crate::accel::bvh::query::Scope;
 use crate::accel::bvh::traverse_packet::trace_packet;
 use crate::accel::bvh::traverse_single::trace;
 use crate::accel::stats::Counter;
@@ -221,7 +222,7 @@ impl<B: BottomLevel> TwoLevel<B> {
     /// The blocked lanes of the packet, in the level's lanes `G`.
     #[inline(always)]
     fn occluded_packet_on<G: SimdFloat, S: Counter>(&self, rays: &RayPacket<G>, stats: &mut S) -> G {
-        let blocked = bottom::blocked_packet(&self.own, rays, stats) & rays.active;
+        let blocked = bottom::blocked_packet(&self.own, rays, Scope::World, stats) & rays.active;
         let query = &mut InstanceAnyHitPacket {
             instances: self.instances(),
             rays: *rays,

@@ -6,7 +6,7 @@
 
 use crate::accel::bvh::lanes::leaf_lane_by_lane;
 use crate::accel::bvh::leaf::LeafRef;
-use crate::accel::bvh::query::{LaneQueries, PacketQuery, RayQuery};
+use crate::accel::bvh::query::{LaneQueries, PacketQuery, RayQuery, Scope};
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
@@ -312,7 +312,12 @@ impl<B: BottomLevel, F: SimdFloat> PacketQuery<F> for InstanceAnyHitPacket<'_, B
                 break;
             }
             let (local, _) = p.object_packet(&self.rays, open, self.rays.t_max);
-            let blocked = blocked_packet(&self.instances.meshes[p.mesh as usize], &local, stats);
+            let blocked = blocked_packet(
+                &self.instances.meshes[p.mesh as usize],
+                &local,
+                Scope::Instance,
+                stats,
+            );
             self.pending = self.pending.and_not(blocked & local.active);
         }
     }
