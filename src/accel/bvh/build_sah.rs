@@ -67,11 +67,11 @@ impl Default for BuildOptions {
 /// cost of 1 ([`BuildOptions::for_primitives`]).
 ///
 /// A small tree stays in the caches, so a ray's time goes into tests rather
-/// than loads, and small leaves save the tests; near this size (a tree about
-/// the size of a last-level cache) the two trace alike, and above it the
-/// loads of more nodes cost more than the tests saved (figures:
-/// `docs/measurements.md`, "Constants").
-pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 17;
+/// than loads, and small leaves save the tests; near this size the two trace
+/// alike (random rays faster with large leaves, packets with small ones),
+/// and above it the loads of more nodes cost more than the tests saved
+/// (figures: `docs/measurements.md`, "Constants").
+pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 15;
 
 impl BuildOptions {
     /// The options [`Bvh::new`](crate::accel::Bvh::new) builds `count`

@@ -15,8 +15,8 @@
 //!   tree. Coherent nearest-hit packets never fall back (see [`RayPacket::is_coherent`]).
 //! - A coherent any-hit packet (shadow rays from a pixel block to one light)
 //!   in the world's tree ([`Scope::World`]) walks the binary tree too where
-//!   the tree is small ([`Bvh::is_small`]), and the wide tree as one packet
-//!   to the leaves where it is large. In an instance's mesh, and for
+//!   the tree is small ([`BINARY_ANY_HIT_PRIMITIVES`]), and the wide tree as
+//!   one packet to the leaves where it is large. In an instance's mesh, and for
 //!   incoherent any-hit packets, it takes the hybrid walk (figures:
 //!   `docs/measurements.md`, "Constants").
 //! - A packet of rays from all over the scene ([`RayPacket::is_scattered`]) shares no
@@ -64,6 +64,13 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
 /// and win on large ones (figures: `docs/measurements.md`, "Constants").
 pub const INTERLEAVE_MIN_BYTES: usize = 4 << 20;
 
+/// Coherent any-hit packets in the world's tree walk the binary tree of
+/// fewer primitives than this, and the wide tree without single-ray
+/// fallback of more: the binary walk's extra node visits cost more than its
+/// cheaper steps save in a tree that leaves the caches (figures:
+/// `docs/measurements.md`, "Constants").
+pub const BINARY_ANY_HIT_PRIMITIVES: usize = 1 << 17;
+
 /// Traverse the whole tree with the lanes of `query.live()`.
 #[inline(always)]
 pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
@@ -88,7 +95,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
     // one. In an instance's mesh their lanes part at its surface (a forest's
     // shadow rays through its canopies), where the hybrid walk's fallback wins.
     let world_shadow = !Q::NEAREST_FIRST && coherent && query.scope() == Scope::World;
-    let binary = coherent && (Q::NEAREST_FIRST || (world_shadow && bvh.is_small()));
+    let binary = coherent && (Q::NEAREST_FIRST || (world_shadow && bvh.len() < BINARY_ANY_HIT_PRIMITIVES));
     if !binary {
         // Incoherent rays part ways too soon for the binary tree, and other
         // any-hit rays, which need no order, meet fewer nodes in the wide one. Rays
@@ -304,7 +311,12 @@ mod tests {
             (random::bumpy_sphere(150_000, 4), false),
         ] {
             let bvh = Bvh::new(&prims);
-            assert_eq!(bvh.is_small(), small, "{} primitives", prims.len());
+            assert_eq!(
+                bvh.len() < BINARY_ANY_HIT_PRIMITIVES,
+                small,
+                "{} primitives",
+                prims.len()
+            );
             let bounds = bvh.bounds();
             let diagonal = (bounds.max - bounds.min).length();
             let mut fallbacks = [0; 2];

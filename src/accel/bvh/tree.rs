@@ -3,7 +3,6 @@
 //! reads every traversal makes of them. Built by [`builder`](super::builder);
 //! walked by the traversals above it.
 
-use crate::accel::bvh::build_sah::SMALL_SCENE_PRIMITIVES;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::leaf_store::LeafStore;
 use crate::accel::bvh::node::{Node, NodeId, NodePair, ROOT, node_in};
@@ -109,13 +108,6 @@ impl Bvh {
         size_of_val(self.ray_tree.as_slice()) + self.leaves.bytes()
     }
 
-    /// Whether the tree holds fewer primitives than [`SMALL_SCENE_PRIMITIVES`]:
-    /// a small scene's tree (leaves of up to 4), which stays in the caches.
-    #[inline(always)]
-    pub fn is_small(&self) -> bool {
-        self.bounded < SMALL_SCENE_PRIMITIVES
-    }
-
     /// The instruction set queries run on: [`Isa::default_level`] when built.
     pub fn isa(&self) -> Isa {
         self.isa
@@ -168,6 +160,13 @@ impl Bvh {
     #[inline(always)]
     pub fn is_empty(&self) -> bool {
         self.bounded == 0
+    }
+
+    /// Primitives in the tree (a polygon tested as watertight pieces counts
+    /// as its pieces).
+    #[inline(always)]
+    pub fn len(&self) -> usize {
+        self.bounded
     }
 
     /// The leaf of the primitives with no finite box (planes), which every
