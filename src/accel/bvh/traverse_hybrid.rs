@@ -24,7 +24,8 @@ use crate::simd::SimdFloat;
 
 /// A subtree wanted by this many lanes or fewer is finished by them as single
 /// rays: with so few lanes, a box test for all of them costs more than the
-/// loads it shares (incoherent packets; see [`LaneWalk::Shared`]).
+/// loads it shares (packets but coherent any-hit ones in the world's tree;
+/// see [`LaneWalk::Shared`]).
 pub const SINGLE_RAY_LANES: u32 = 2;
 
 /// How a packet's lanes set out from the root of the wide tree.
