@@ -70,30 +70,69 @@ fn closed_mesh() {
     support::bvh::check_scene("mesh", &random::bumpy_sphere(2000, 6), 106);
 }
 
-/// Small scenes get leaves of up to 4 (`BuildOptions::for_primitives`), large
-/// ones leaves of up to 16 in two blocks of 8 (the defaults); trees of both
-/// kinds over the same mesh answer as brute force does, single rays and packets.
+/// Small scenes get leaves of up to 4, medium ones of up to one block of 8
+/// (`BuildOptions::for_primitives`), large ones leaves of up to 16 in two
+/// blocks of 8 (the defaults); trees of the three kinds over the same mesh
+/// answer as brute force does, single rays and packets.
 #[test]
-fn both_leaf_sizes() {
-    use raypack::accel::Bvh;
-    use raypack::accel::bvh::{BuildOptions, SMALL_SCENE_PRIMITIVES};
+fn three_leaf_sizes() {
+    use raypack::accel::bvh::{BuildOptions, MEDIUM_SCENE_PRIMITIVES, SMALL_SCENE_PRIMITIVES};
     let mesh = random::bumpy_sphere(5_000, 7);
     let small = BuildOptions::for_primitives(mesh.len());
     assert_eq!((small.max_leaf_size, small.traversal_cost), (4, 1.0));
     assert_eq!(BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES - 1), small);
+    let medium = BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES);
+    assert_eq!((medium.max_leaf_size, medium.traversal_cost), (8, 1.0));
+    assert_eq!(BuildOptions::for_primitives(MEDIUM_SCENE_PRIMITIVES - 1), medium);
     assert_eq!(
-        BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES),
+        BuildOptions::for_primitives(MEDIUM_SCENE_PRIMITIVES),
         BuildOptions::default()
     );
     let rays = support::bvh::random_rays(support::bvh::scene_bounds(&mesh), 20_000, 107);
     let mut largest = Vec::new();
-    for options in [small, BuildOptions::default()] {
+    for options in [small, medium, BuildOptions::default()] {
         let bvh = Bvh::with_options(&mesh, &options);
         largest.push(bvh.info().max_leaf_size);
         support::bvh::check_rays(&mesh, &bvh, &rays, &format!("{options:?}"));
     }
-    // Leaves of up to 4, and of more than one block.
-    assert!(largest[0] <= 4 && largest[1] > 8, "largest leaves {largest:?}");
+    // Leaves of up to 4, of up to one block, and of more than one block.
+    assert!(
+        largest[0] <= 4 && (5..=8).contains(&largest[1]) && largest[2] > 8,
+        "largest leaves {largest:?}"
+    );
+}
+
+/// A polygon the tree holds as watertight pieces counts as its pieces when
+/// `Bvh::new` picks its options: a scene of few polygons with many pieces
+/// (an SPD gear's face is 142 triangles) is built as a scene of that many
+/// triangles.
+#[test]
+fn polygons_count_as_their_pieces() {
+    use glam::Vec3;
+    use raypack::accel::bvh::SMALL_SCENE_PRIMITIVES;
+    use raypack::geometry::Polygon;
+    // Star-shaped (concave) 40-gons, each 38 pieces, side by side.
+    let star = |centre: Vec3| -> Vec<Vec3> {
+        (0..40)
+            .map(|i| {
+                let angle = i as f32 * std::f32::consts::TAU / 40.0;
+                let radius = if i % 2 == 0 { 1.0 } else { 0.6 };
+                centre + radius * Vec3::new(angle.cos(), angle.sin(), 0.0)
+            })
+            .collect()
+    };
+    let polygons = SMALL_SCENE_PRIMITIVES / 38 + 1;
+    let prims: Vec<Primitive> = (0..polygons)
+        .map(|i| {
+            let centre = Vec3::new((i % 64) as f32 * 3.0, (i / 64) as f32 * 3.0, 0.0);
+            Primitive::Polygon(Polygon::new(&star(centre)).unwrap())
+        })
+        .collect();
+    let bvh = Bvh::new(&prims);
+    assert_eq!(bvh.len(), polygons * 38);
+    assert!(prims.len() < SMALL_SCENE_PRIMITIVES && bvh.len() >= SMALL_SCENE_PRIMITIVES);
+    // Built as a medium scene: leaves of more than 4 of the pieces.
+    assert!(bvh.info().max_leaf_size > 4, "{:?}", bvh.info());
 }
 
 /// The scenes with which the fuzz target `pipeline` found single rays and

@@ -37,13 +37,13 @@ pub struct BuildOptions {
     /// a node of `n` primitives gets at most `4 + n / 20`.
     pub bins: usize,
     /// Largest leaf the SAH may choose; larger nodes are always split.
-    /// 16 by default (two blocks of 8), 4 for small scenes
+    /// 16 by default (two blocks of 8), 4 or 8 for small and medium scenes
     /// ([`BuildOptions::for_primitives`]): on large meshes leaves of up to 16
     /// traced faster than one-block leaves on every ray kind, 16 and 32 alike,
     /// and the build is faster (figures: `docs/measurements.md`, "Constants").
     pub max_leaf_size: usize,
     /// SAH cost of visiting a node, relative to… (2 by default, 1 for small
-    /// scenes: with block leaves, 1 to 4 trace within noise of each other)
+    /// and medium scenes: with block leaves, 1 to 4 trace within noise of each other)
     pub traversal_cost: f32,
     /// …the cost of one leaf test, of up to `block_size` primitives.
     pub intersection_cost: f32,
@@ -67,25 +67,36 @@ impl Default for BuildOptions {
 /// cost of 1 ([`BuildOptions::for_primitives`]).
 ///
 /// A small tree stays in the caches, so a ray's time goes into tests rather
-/// than loads, and small leaves save the tests; near this size the two trace
-/// alike (random rays faster with large leaves, packets with small ones),
-/// and above it the loads of more nodes cost more than the tests saved
+/// than loads, and small leaves save the tests; above it one-block leaves
+/// ([`MEDIUM_SCENE_PRIMITIVES`]) save more node visits than they add tests
 /// (figures: `docs/measurements.md`, "Constants").
-pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 15;
+pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 14;
+
+/// Scenes of fewer primitives than this, and no fewer than
+/// [`SMALL_SCENE_PRIMITIVES`], get leaves of up to one block (8) and a node
+/// cost of 1; larger ones the defaults (up to two blocks, node cost 2),
+/// whose fewer node loads win once the tree leaves the caches. Between
+/// 2·10⁴ and 4·10⁴ triangles one-block leaves trace faster than either
+/// (figures: `docs/measurements.md`, "Constants").
+pub const MEDIUM_SCENE_PRIMITIVES: usize = 3 << 14;
 
 impl BuildOptions {
     /// The options [`Bvh::new`](crate::accel::Bvh::new) builds `count`
-    /// primitives with: the defaults, with small leaves for a small scene
-    /// ([`SMALL_SCENE_PRIMITIVES`]).
+    /// primitives with: the defaults, with smaller leaves and a cheaper node
+    /// for small and medium scenes ([`SMALL_SCENE_PRIMITIVES`],
+    /// [`MEDIUM_SCENE_PRIMITIVES`]).
     pub fn for_primitives(count: usize) -> Self {
-        if count < SMALL_SCENE_PRIMITIVES {
-            Self {
-                max_leaf_size: 4,
-                traversal_cost: 1.0,
-                ..Self::default()
-            }
+        let max_leaf_size = if count < SMALL_SCENE_PRIMITIVES {
+            4
+        } else if count < MEDIUM_SCENE_PRIMITIVES {
+            BLOCK_SIZE
         } else {
-            Self::default()
+            return Self::default();
+        };
+        Self {
+            max_leaf_size,
+            traversal_cost: 1.0,
+            ..Self::default()
         }
     }
 }

@@ -16,10 +16,13 @@ use crate::geometry::{Primitive, Triangle};
 use crate::simd::Isa;
 
 impl Bvh {
-    /// Build over `prims` with the [`BuildOptions`] for their number
-    /// ([`BuildOptions::for_primitives`]).
+    /// Build over `prims` with the [`BuildOptions`] for the number of items
+    /// the tree holds ([`BuildOptions::for_primitives`]): a polygon tested as
+    /// watertight pieces counts as its pieces, as [`Bvh::len`] counts it (an
+    /// SPD gears scene's 9,345 polygons are 36,610 triangles in the tree).
     pub fn new(prims: &[Primitive]) -> Self {
-        Self::with_options(prims, &BuildOptions::for_primitives(prims.len()))
+        let items = prims.iter().map(|p| pieces_of(p).map_or(1, <[_]>::len)).sum();
+        Self::with_options(prims, &BuildOptions::for_primitives(items))
     }
 
     /// Build over `prims`; a hit's primitive index is the position in `prims`.
