@@ -70,36 +70,46 @@ fn closed_mesh() {
     support::bvh::check_scene("mesh", &random::bumpy_sphere(2000, 6), 106);
 }
 
-/// Small scenes get leaves of up to 4, medium ones of up to one block of 8
-/// (`BuildOptions::for_primitives`), large ones leaves of up to 16 in two
-/// blocks of 8 (the defaults); trees of the three kinds over the same mesh
-/// answer as brute force does, single rays and packets.
+/// Small and medium scenes get leaves of up to one block of 8, a small one's
+/// priced per 4 primitives so that more are split (`BuildOptions::for_primitives`),
+/// large ones leaves of up to 16 in two blocks of 8 (the defaults); trees of
+/// the three kinds over the same mesh answer as brute force does, single rays
+/// and packets.
 #[test]
 fn three_leaf_sizes() {
     use raypack::accel::bvh::{BuildOptions, MEDIUM_SCENE_PRIMITIVES, SMALL_SCENE_PRIMITIVES};
     let mesh = random::bumpy_sphere(5_000, 7);
     let small = BuildOptions::for_primitives(mesh.len());
-    assert_eq!((small.max_leaf_size, small.traversal_cost), (4, 1.0));
+    assert_eq!(
+        (small.max_leaf_size, small.traversal_cost, small.block_size),
+        (8, 1.0, 4)
+    );
     assert_eq!(BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES - 1), small);
     let medium = BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES);
-    assert_eq!((medium.max_leaf_size, medium.traversal_cost), (8, 1.0));
+    assert_eq!(
+        (medium.max_leaf_size, medium.traversal_cost, medium.block_size),
+        (8, 1.0, 8)
+    );
     assert_eq!(BuildOptions::for_primitives(MEDIUM_SCENE_PRIMITIVES - 1), medium);
     assert_eq!(
         BuildOptions::for_primitives(MEDIUM_SCENE_PRIMITIVES),
         BuildOptions::default()
     );
     let rays = support::bvh::random_rays(support::bvh::scene_bounds(&mesh), 20_000, 107);
-    let mut largest = Vec::new();
+    let mut infos = Vec::new();
     for options in [small, medium, BuildOptions::default()] {
         let bvh = Bvh::with_options(&mesh, &options);
-        largest.push(bvh.info().max_leaf_size);
+        infos.push(bvh.info());
         support::bvh::check_rays(&mesh, &bvh, &rays, &format!("{options:?}"));
     }
-    // Leaves of up to 4, of up to one block, and of more than one block.
+    // Leaves of up to one block, the small tree's split more often, and
+    // leaves of more than one block.
+    let largest: Vec<usize> = infos.iter().map(|i| i.max_leaf_size).collect();
     assert!(
-        largest[0] <= 4 && (5..=8).contains(&largest[1]) && largest[2] > 8,
+        largest[0] <= 8 && (5..=8).contains(&largest[1]) && largest[2] > 8,
         "largest leaves {largest:?}"
     );
+    assert!(infos[0].leaves > infos[1].leaves, "{infos:?}");
 }
 
 /// A polygon the tree holds as watertight pieces counts as its pieces when
@@ -109,7 +119,7 @@ fn three_leaf_sizes() {
 #[test]
 fn polygons_count_as_their_pieces() {
     use glam::Vec3;
-    use raypack::accel::bvh::SMALL_SCENE_PRIMITIVES;
+    use raypack::accel::bvh::{BuildOptions, SMALL_SCENE_PRIMITIVES};
     use raypack::geometry::Polygon;
     // Star-shaped (concave) 40-gons, each 38 pieces, side by side.
     let star = |centre: Vec3| -> Vec<Vec3> {
@@ -131,8 +141,10 @@ fn polygons_count_as_their_pieces() {
     let bvh = Bvh::new(&prims);
     assert_eq!(bvh.len(), polygons * 38);
     assert!(prims.len() < SMALL_SCENE_PRIMITIVES && bvh.len() >= SMALL_SCENE_PRIMITIVES);
-    // Built as a medium scene: leaves of more than 4 of the pieces.
-    assert!(bvh.info().max_leaf_size > 4, "{:?}", bvh.info());
+    // Built as a medium scene: its leaves priced per block, not per 4.
+    let built_for = |count| Bvh::with_options(&prims, &BuildOptions::for_primitives(count)).info();
+    assert_eq!(bvh.info(), built_for(bvh.len()));
+    assert_ne!(bvh.info(), built_for(prims.len()));
 }
 
 /// The scenes with which the fuzz target `pipeline` found single rays and

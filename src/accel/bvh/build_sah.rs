@@ -37,7 +37,7 @@ pub struct BuildOptions {
     /// a node of `n` primitives gets at most `4 + n / 20`.
     pub bins: usize,
     /// Largest leaf the SAH may choose; larger nodes are always split.
-    /// 16 by default (two blocks of 8), 4 or 8 for small and medium scenes
+    /// 16 by default (two blocks of 8), 8 for small and medium scenes
     /// ([`BuildOptions::for_primitives`]): on large meshes leaves of up to 16
     /// traced faster than one-block leaves on every ray kind, 16 and 32 alike,
     /// and the build is faster (figures: `docs/measurements.md`, "Constants").
@@ -47,7 +47,8 @@ pub struct BuildOptions {
     pub traversal_cost: f32,
     /// …the cost of one leaf test, of up to `block_size` primitives.
     pub intersection_cost: f32,
-    /// Primitives one leaf test covers ([`BLOCK_SIZE`]; 1 prices each primitive alone).
+    /// Primitives one leaf test covers ([`BLOCK_SIZE`]; 4 for small scenes,
+    /// see [`SMALL_SCENE_PRIMITIVES`]; 1 prices each primitive alone).
     pub block_size: usize,
 }
 
@@ -63,39 +64,48 @@ impl Default for BuildOptions {
     }
 }
 
-/// Scenes of fewer primitives than this get leaves of up to 4 and a node
-/// cost of 1 ([`BuildOptions::for_primitives`]).
+/// Scenes of fewer primitives than this get leaves of up to one block (8),
+/// a node cost of 1 and leaves priced per 4 primitives, not per block
+/// ([`BuildOptions::for_primitives`]).
 ///
 /// A small tree stays in the caches, so a ray's time goes into tests rather
-/// than loads, and small leaves save the tests; above it one-block leaves
-/// ([`MEDIUM_SCENE_PRIMITIVES`]) save more node visits than they add tests
-/// (figures: `docs/measurements.md`, "Constants").
+/// than loads. Priced per block, a leaf of 5–8 costs what one of 4 does and
+/// is never split, though packets test each of its primitives against their
+/// lanes; priced per 4 it is split where the split saves tests. That traced
+/// as fast as leaves of up to 4 did here (coherent packets 2–4% slower,
+/// single rays and incoherent packets 0–14% faster) and builds up to 1.4×
+/// faster (figures: `docs/measurements.md`, "Constants").
 pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 14;
+
+/// Primitives a leaf test of a small scene is priced at
+/// ([`SMALL_SCENE_PRIMITIVES`]): half a block.
+const SMALL_SCENE_PRICED_BLOCK: usize = 4;
 
 /// Scenes of fewer primitives than this, and no fewer than
 /// [`SMALL_SCENE_PRIMITIVES`], get leaves of up to one block (8) and a node
-/// cost of 1; larger ones the defaults (up to two blocks, node cost 2),
-/// whose fewer node loads win once the tree leaves the caches. Between
-/// 2·10⁴ and 4·10⁴ triangles one-block leaves trace faster than either
-/// (figures: `docs/measurements.md`, "Constants").
+/// cost of 1, leaves priced per block; larger ones the defaults (up to two
+/// blocks, node cost 2), whose fewer node loads win once the tree leaves the
+/// caches. Between 2·10⁴ and 4·10⁴ triangles one-block leaves trace faster
+/// than either (figures: `docs/measurements.md`, "Constants").
 pub const MEDIUM_SCENE_PRIMITIVES: usize = 3 << 14;
 
 impl BuildOptions {
     /// The options [`Bvh::new`](crate::accel::Bvh::new) builds `count`
-    /// primitives with: the defaults, with smaller leaves and a cheaper node
+    /// primitives with: the defaults, with one-block leaves and a cheaper node
     /// for small and medium scenes ([`SMALL_SCENE_PRIMITIVES`],
     /// [`MEDIUM_SCENE_PRIMITIVES`]).
     pub fn for_primitives(count: usize) -> Self {
-        let max_leaf_size = if count < SMALL_SCENE_PRIMITIVES {
-            4
+        let block_size = if count < SMALL_SCENE_PRIMITIVES {
+            SMALL_SCENE_PRICED_BLOCK
         } else if count < MEDIUM_SCENE_PRIMITIVES {
             BLOCK_SIZE
         } else {
             return Self::default();
         };
         Self {
-            max_leaf_size,
+            max_leaf_size: BLOCK_SIZE,
             traversal_cost: 1.0,
+            block_size,
             ..Self::default()
         }
     }
