@@ -70,43 +70,57 @@ fn closed_mesh() {
     support::bvh::check_scene("mesh", &random::bumpy_sphere(2000, 6), 106);
 }
 
-/// Small and medium scenes get leaves of up to one block of 8, a small one's
-/// priced per 4 primitives so that more are split (`BuildOptions::for_primitives`),
-/// large ones leaves of up to 16 in two blocks of 8 (the defaults); trees of
-/// the three kinds over the same mesh answer as brute force does, single rays
-/// and packets.
+/// Scenes below `LARGE_SCENE_PRIMITIVES` get leaves of up to one block of 8
+/// (`BuildOptions::for_primitives`): small ones with node cost 1 and leaves
+/// priced per 4 primitives so that more are split, medium ones with node
+/// cost 1, large ones with the default node cost; larger ones leaves of up
+/// to 16 in two blocks of 8 (the defaults). Each tier starts at its bound,
+/// and trees of the four kinds over the same mesh answer as brute force
+/// does, single rays and packets.
 #[test]
-fn three_leaf_sizes() {
-    use raypack::accel::bvh::{BuildOptions, MEDIUM_SCENE_PRIMITIVES, SMALL_SCENE_PRIMITIVES};
+fn four_leaf_tiers() {
+    use raypack::accel::bvh::{
+        BuildOptions, LARGE_SCENE_PRIMITIVES, MEDIUM_SCENE_PRIMITIVES, SMALL_SCENE_PRIMITIVES,
+    };
+    let bounds = [
+        SMALL_SCENE_PRIMITIVES,
+        MEDIUM_SCENE_PRIMITIVES,
+        LARGE_SCENE_PRIMITIVES,
+    ];
+    let tiers = [
+        1,
+        SMALL_SCENE_PRIMITIVES,
+        MEDIUM_SCENE_PRIMITIVES,
+        LARGE_SCENE_PRIMITIVES,
+    ]
+    .map(BuildOptions::for_primitives);
+    let key = |o: &BuildOptions| (o.max_leaf_size, o.traversal_cost, o.block_size);
+    assert_eq!(
+        tiers.map(|o| key(&o)),
+        [(8, 1.0, 4), (8, 1.0, 8), (8, 2.0, 8), (16, 2.0, 8)]
+    );
+    assert_eq!(tiers[3], BuildOptions::default());
+    for (tier, bound) in bounds.into_iter().enumerate() {
+        assert_eq!(
+            BuildOptions::for_primitives(bound - 1),
+            tiers[tier],
+            "below {bound}"
+        );
+    }
     let mesh = random::bumpy_sphere(5_000, 7);
-    let small = BuildOptions::for_primitives(mesh.len());
-    assert_eq!(
-        (small.max_leaf_size, small.traversal_cost, small.block_size),
-        (8, 1.0, 4)
-    );
-    assert_eq!(BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES - 1), small);
-    let medium = BuildOptions::for_primitives(SMALL_SCENE_PRIMITIVES);
-    assert_eq!(
-        (medium.max_leaf_size, medium.traversal_cost, medium.block_size),
-        (8, 1.0, 8)
-    );
-    assert_eq!(BuildOptions::for_primitives(MEDIUM_SCENE_PRIMITIVES - 1), medium);
-    assert_eq!(
-        BuildOptions::for_primitives(MEDIUM_SCENE_PRIMITIVES),
-        BuildOptions::default()
-    );
+    assert_eq!(BuildOptions::for_primitives(mesh.len()), tiers[0]);
     let rays = support::bvh::random_rays(support::bvh::scene_bounds(&mesh), 20_000, 107);
     let mut infos = Vec::new();
-    for options in [small, medium, BuildOptions::default()] {
-        let bvh = Bvh::with_options(&mesh, &options);
+    for options in &tiers {
+        let bvh = Bvh::with_options(&mesh, options);
         infos.push(bvh.info());
         support::bvh::check_rays(&mesh, &bvh, &rays, &format!("{options:?}"));
     }
-    // Leaves of up to one block, the small tree's split more often, and
-    // leaves of more than one block.
+    // Leaves of up to one block, the small tree's split more often than the
+    // medium one's, and leaves of more than one block.
     let largest: Vec<usize> = infos.iter().map(|i| i.max_leaf_size).collect();
     assert!(
-        largest[0] <= 8 && (5..=8).contains(&largest[1]) && largest[2] > 8,
+        largest[0] <= 8 && largest[1..3].iter().all(|l| (5..=8).contains(l)) && largest[3] > 8,
         "largest leaves {largest:?}"
     );
     assert!(infos[0].leaves > infos[1].leaves, "{infos:?}");

@@ -37,8 +37,8 @@ pub struct BuildOptions {
     /// a node of `n` primitives gets at most `4 + n / 20`.
     pub bins: usize,
     /// Largest leaf the SAH may choose; larger nodes are always split.
-    /// 16 by default (two blocks of 8), 8 for small and medium scenes
-    /// ([`BuildOptions::for_primitives`]): on large meshes leaves of up to 16
+    /// 16 by default (two blocks of 8), 8 below [`LARGE_SCENE_PRIMITIVES`]
+    /// ([`BuildOptions::for_primitives`]): on the largest meshes leaves of up to 16
     /// traced faster than one-block leaves on every ray kind, 16 and 32 alike,
     /// and the build is faster (figures: `docs/measurements.md`, "Constants").
     pub max_leaf_size: usize,
@@ -83,30 +83,42 @@ const SMALL_SCENE_PRICED_BLOCK: usize = 4;
 
 /// Scenes of fewer primitives than this, and no fewer than
 /// [`SMALL_SCENE_PRIMITIVES`], get leaves of up to one block (8) and a node
-/// cost of 1, leaves priced per block; larger ones the defaults (up to two
-/// blocks, node cost 2), whose fewer node loads win once the tree leaves the
-/// caches. Between 2·10⁴ and 4·10⁴ triangles one-block leaves trace faster
-/// than either (figures: `docs/measurements.md`, "Constants").
+/// cost of 1, leaves priced per block. Between 2·10⁴ and 4·10⁴ triangles
+/// one-block leaves trace faster than leaves of up to 4 or 16, and a node
+/// cost of 1 faster than 2 (figures: `docs/measurements.md`, "Constants").
 pub const MEDIUM_SCENE_PRIMITIVES: usize = 3 << 14;
+
+/// Scenes of fewer primitives than this, and no fewer than
+/// [`MEDIUM_SCENE_PRIMITIVES`], get leaves of up to one block (8) with the
+/// default node cost (2); larger ones the defaults, leaves of up to two
+/// blocks, whose fewer node loads win once the tree is far larger than the
+/// caches. From 10⁵ to 2·10⁵ triangles one-block leaves trace faster on
+/// every ray kind, at 10⁶ single rays lose 5–13% with them (figures:
+/// `docs/measurements.md`, "Constants").
+pub const LARGE_SCENE_PRIMITIVES: usize = 1 << 19;
 
 impl BuildOptions {
     /// The options [`Bvh::new`](crate::accel::Bvh::new) builds `count`
-    /// primitives with: the defaults, with one-block leaves and a cheaper node
-    /// for small and medium scenes ([`SMALL_SCENE_PRIMITIVES`],
-    /// [`MEDIUM_SCENE_PRIMITIVES`]).
+    /// primitives with: the defaults, with one-block leaves below
+    /// [`LARGE_SCENE_PRIMITIVES`], a cheaper node for small and medium scenes
+    /// ([`SMALL_SCENE_PRIMITIVES`], [`MEDIUM_SCENE_PRIMITIVES`]) and leaves
+    /// priced per 4 primitives for small ones.
     pub fn for_primitives(count: usize) -> Self {
-        let block_size = if count < SMALL_SCENE_PRIMITIVES {
-            SMALL_SCENE_PRICED_BLOCK
+        let defaults = Self::default();
+        let (traversal_cost, block_size) = if count < SMALL_SCENE_PRIMITIVES {
+            (1.0, SMALL_SCENE_PRICED_BLOCK)
         } else if count < MEDIUM_SCENE_PRIMITIVES {
-            BLOCK_SIZE
+            (1.0, BLOCK_SIZE)
+        } else if count < LARGE_SCENE_PRIMITIVES {
+            (defaults.traversal_cost, BLOCK_SIZE)
         } else {
-            return Self::default();
+            return defaults;
         };
         Self {
             max_leaf_size: BLOCK_SIZE,
-            traversal_cost: 1.0,
+            traversal_cost,
             block_size,
-            ..Self::default()
+            ..defaults
         }
     }
 }

@@ -56,7 +56,9 @@ pub mod traverse_single;
 pub mod tree;
 pub mod wide;
 
-pub use build_sah::{BuildOptions, MAX_DEPTH, MEDIUM_SCENE_PRIMITIVES, SMALL_SCENE_PRIMITIVES};
+pub use build_sah::{
+    BuildOptions, LARGE_SCENE_PRIMITIVES, MAX_DEPTH, MEDIUM_SCENE_PRIMITIVES, SMALL_SCENE_PRIMITIVES,
+};
 pub use tree::{Bvh, BvhInfo};
 
 use crate::accel::Accel;
