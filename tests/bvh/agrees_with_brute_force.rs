@@ -71,9 +71,9 @@ fn closed_mesh() {
 }
 
 /// Scenes below `LARGE_SCENE_PRIMITIVES` get leaves of up to one block of 8
-/// (`BuildOptions::for_primitives`): small ones with node cost 1 and leaves
-/// priced per 4 primitives so that more are split, medium ones with node
-/// cost 1, large ones with the default node cost; larger ones leaves of up
+/// (`BuildOptions::for_primitives`), but small ones leaves of up to 4; small
+/// and medium ones with node cost 1, large ones with the default node cost;
+/// larger ones leaves of up
 /// to 16 in two blocks of 8 (the defaults). Each tier starts at its bound,
 /// and trees of the four kinds over the same mesh answer as brute force
 /// does, single rays and packets.
@@ -97,7 +97,7 @@ fn four_leaf_tiers() {
     let key = |o: &BuildOptions| (o.max_leaf_size, o.traversal_cost, o.block_size);
     assert_eq!(
         tiers.map(|o| key(&o)),
-        [(8, 1.0, 4), (8, 1.0, 8), (8, 2.0, 8), (16, 2.0, 8)]
+        [(4, 1.0, 8), (8, 1.0, 8), (8, 2.0, 8), (16, 2.0, 8)]
     );
     assert_eq!(tiers[3], BuildOptions::default());
     for (tier, bound) in bounds.into_iter().enumerate() {
@@ -116,11 +116,10 @@ fn four_leaf_tiers() {
         infos.push(bvh.info());
         support::bvh::check_rays(&mesh, &bvh, &rays, &format!("{options:?}"));
     }
-    // Leaves of up to one block, the small tree's split more often than the
-    // medium one's, and leaves of more than one block.
+    // Leaves of up to 4, of up to one block, and of more than one block.
     let largest: Vec<usize> = infos.iter().map(|i| i.max_leaf_size).collect();
     assert!(
-        largest[0] <= 8 && largest[1..3].iter().all(|l| (5..=8).contains(l)) && largest[3] > 8,
+        largest[0] <= 4 && largest[1..3].iter().all(|l| (5..=8).contains(l)) && largest[3] > 8,
         "largest leaves {largest:?}"
     );
     assert!(infos[0].leaves > infos[1].leaves, "{infos:?}");
@@ -155,7 +154,7 @@ fn polygons_count_as_their_pieces() {
     let bvh = Bvh::new(&prims);
     assert_eq!(bvh.len(), polygons * 38);
     assert!(prims.len() < SMALL_SCENE_PRIMITIVES && bvh.len() >= SMALL_SCENE_PRIMITIVES);
-    // Built as a medium scene: its leaves priced per block, not per 4.
+    // Built with the options of its pieces' count, not of its polygons'.
     let built_for = |count| Bvh::with_options(&prims, &BuildOptions::for_primitives(count)).info();
     assert_eq!(bvh.info(), built_for(bvh.len()));
     assert_ne!(bvh.info(), built_for(prims.len()));

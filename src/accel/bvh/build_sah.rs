@@ -37,7 +37,7 @@ pub struct BuildOptions {
     /// a node of `n` primitives gets at most `4 + n / 20`.
     pub bins: usize,
     /// Largest leaf the SAH may choose; larger nodes are always split.
-    /// 16 by default (two blocks of 8), 8 below [`LARGE_SCENE_PRIMITIVES`]
+    /// 16 by default (two blocks of 8), 4 or 8 below [`LARGE_SCENE_PRIMITIVES`]
     /// ([`BuildOptions::for_primitives`]): on the largest meshes leaves of up to 16
     /// traced faster than one-block leaves on every ray kind, 16 and 32 alike,
     /// and the build is faster (figures: `docs/measurements.md`, "Constants").
@@ -47,8 +47,7 @@ pub struct BuildOptions {
     pub traversal_cost: f32,
     /// …the cost of one leaf test, of up to `block_size` primitives.
     pub intersection_cost: f32,
-    /// Primitives one leaf test covers ([`BLOCK_SIZE`]; 4 for small scenes,
-    /// see [`SMALL_SCENE_PRIMITIVES`]; 1 prices each primitive alone).
+    /// Primitives one leaf test covers ([`BLOCK_SIZE`]; 1 prices each primitive alone).
     pub block_size: usize,
 }
 
@@ -64,22 +63,16 @@ impl Default for BuildOptions {
     }
 }
 
-/// Scenes of fewer primitives than this get leaves of up to one block (8),
-/// a node cost of 1 and leaves priced per 4 primitives, not per block
-/// ([`BuildOptions::for_primitives`]).
+/// Scenes of fewer primitives than this get leaves of up to 4 and a node
+/// cost of 1 ([`BuildOptions::for_primitives`]).
 ///
 /// A small tree stays in the caches, so a ray's time goes into tests rather
-/// than loads. Priced per block, a leaf of 5–8 costs what one of 4 does and
-/// is never split, though packets test each of its primitives against their
-/// lanes; priced per 4 it is split where the split saves tests. That traced
-/// as fast as leaves of up to 4 did here (coherent packets 2–4% slower,
-/// single rays and incoherent packets 0–14% faster) and builds up to 1.4×
-/// faster (figures: `docs/measurements.md`, "Constants").
+/// than loads, and small leaves save the tests. Leaves of up to 8 priced per
+/// 4 primitives traced triangle and sphere scenes as fast and built them
+/// faster, but slowed scenes whose leaves hold records (SPD rings and tree,
+/// cylinders and cones: 0.35–0.86×), so they are not used (figures:
+/// `docs/measurements.md`, "Constants"; `docs/tried-not-kept.md`).
 pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 14;
-
-/// Primitives a leaf test of a small scene is priced at
-/// ([`SMALL_SCENE_PRIMITIVES`]): half a block.
-const SMALL_SCENE_PRICED_BLOCK: usize = 4;
 
 /// Scenes of fewer primitives than this, and no fewer than
 /// [`SMALL_SCENE_PRIMITIVES`], get leaves of up to one block (8) and a node
@@ -99,25 +92,24 @@ pub const LARGE_SCENE_PRIMITIVES: usize = 1 << 19;
 
 impl BuildOptions {
     /// The options [`Bvh::new`](crate::accel::Bvh::new) builds `count`
-    /// primitives with: the defaults, with one-block leaves below
-    /// [`LARGE_SCENE_PRIMITIVES`], a cheaper node for small and medium scenes
-    /// ([`SMALL_SCENE_PRIMITIVES`], [`MEDIUM_SCENE_PRIMITIVES`]) and leaves
-    /// priced per 4 primitives for small ones.
+    /// primitives with: the defaults, with leaves of up to 4 for small scenes
+    /// ([`SMALL_SCENE_PRIMITIVES`]), of up to one block below
+    /// [`LARGE_SCENE_PRIMITIVES`], and a cheaper node for small and medium
+    /// ones ([`MEDIUM_SCENE_PRIMITIVES`]).
     pub fn for_primitives(count: usize) -> Self {
         let defaults = Self::default();
-        let (traversal_cost, block_size) = if count < SMALL_SCENE_PRIMITIVES {
-            (1.0, SMALL_SCENE_PRICED_BLOCK)
+        let (max_leaf_size, traversal_cost) = if count < SMALL_SCENE_PRIMITIVES {
+            (4, 1.0)
         } else if count < MEDIUM_SCENE_PRIMITIVES {
-            (1.0, BLOCK_SIZE)
+            (BLOCK_SIZE, 1.0)
         } else if count < LARGE_SCENE_PRIMITIVES {
-            (defaults.traversal_cost, BLOCK_SIZE)
+            (BLOCK_SIZE, defaults.traversal_cost)
         } else {
             return defaults;
         };
         Self {
-            max_leaf_size: BLOCK_SIZE,
+            max_leaf_size,
             traversal_cost,
-            block_size,
             ..defaults
         }
     }
