@@ -67,18 +67,21 @@ impl Default for BuildOptions {
 /// cost of 1 ([`BuildOptions::for_primitives`]).
 ///
 /// A small tree stays in the caches, so a ray's time goes into tests rather
-/// than loads, and small leaves save the tests. Leaves of up to 8 priced per
+/// than loads, and small leaves save the tests; more so in scenes whose
+/// leaves hold records (SPD tree at 32,767 cones and spheres: leaves of up
+/// to 8 traced it 2–4× slower), so the bound stays 2¹⁵, though 2·10⁴-triangle
+/// meshes ran 5–15% faster with one-block leaves. Leaves of up to 8 priced per
 /// 4 primitives traced triangle and sphere scenes as fast and built them
 /// faster, but slowed scenes whose leaves hold records (SPD rings and tree,
 /// cylinders and cones: 0.35–0.86×), so they are not used (figures:
 /// `docs/measurements.md`, "Constants"; `docs/tried-not-kept.md`).
-pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 14;
+pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 15;
 
 /// Scenes of fewer primitives than this, and no fewer than
 /// [`SMALL_SCENE_PRIMITIVES`], get leaves of up to one block (8) and a node
-/// cost of 1, leaves priced per block. Between 2·10⁴ and 4·10⁴ triangles
-/// one-block leaves trace faster than leaves of up to 4 or 16, and a node
-/// cost of 1 faster than 2 (figures: `docs/measurements.md`, "Constants").
+/// cost of 1, leaves priced per block. At 3·10⁴–4·10⁴ triangles one-block
+/// leaves trace faster than leaves of up to 4 or 16, and a node cost of 1
+/// faster than 2 (figures: `docs/measurements.md`, "Constants").
 pub const MEDIUM_SCENE_PRIMITIVES: usize = 3 << 14;
 
 /// Scenes of fewer primitives than this, and no fewer than
