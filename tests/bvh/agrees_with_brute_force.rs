@@ -70,59 +70,91 @@ fn closed_mesh() {
     support::bvh::check_scene("mesh", &random::bumpy_sphere(2000, 6), 106);
 }
 
-/// Scenes below `LARGE_SCENE_PRIMITIVES` get leaves of up to one block of 8
-/// (`BuildOptions::for_primitives`), but small ones leaves of up to 4; small
-/// and medium ones with node cost 1, large ones with the default node cost;
-/// larger ones leaves of up
-/// to 16 in two blocks of 8 (the defaults). Each tier starts at its bound,
-/// and trees of the four kinds over the same mesh answer as brute force
-/// does, single rays and packets.
+/// `BuildOptions::for_primitives`: small scenes of blocks get leaves of up to
+/// one block priced per `SMALL_SCENE_PRICED_BLOCK` primitives, small scenes
+/// with records leaves of up to 4, both a node cost of 1; then either kind
+/// leaves of up to one block with node cost 1 (medium) and 2 (large), and the
+/// defaults above (leaves of up to 16 in two blocks). Each tier starts at its
+/// bound; `Bvh::new` picks the tier of its items' count and kind; and trees
+/// of the five tiers over the same mesh answer as brute force does, single
+/// rays and packets.
 #[test]
-fn four_leaf_tiers() {
+fn leaf_tiers() {
+    use raypack::accel::bvh::LeafKind::{Blocks, Records};
     use raypack::accel::bvh::{
-        BuildOptions, LARGE_SCENE_PRIMITIVES, MEDIUM_SCENE_PRIMITIVES, SMALL_SCENE_PRIMITIVES,
+        BuildOptions, LARGE_SCENE_PRIMITIVES as LARGE, MEDIUM_SCENE_PRIMITIVES as MEDIUM,
+        SMALL_BLOCK_SCENE_PRIMITIVES as SMALL_BLOCKS, SMALL_RECORD_SCENE_PRIMITIVES as SMALL_RECORDS,
+        SMALL_SCENE_PRICED_BLOCK,
     };
-    let bounds = [
-        SMALL_SCENE_PRIMITIVES,
-        MEDIUM_SCENE_PRIMITIVES,
-        LARGE_SCENE_PRIMITIVES,
-    ];
+    let key = |o: BuildOptions| (o.max_leaf_size, o.traversal_cost, o.block_size);
     let tiers = [
-        1,
-        SMALL_SCENE_PRIMITIVES,
-        MEDIUM_SCENE_PRIMITIVES,
-        LARGE_SCENE_PRIMITIVES,
-    ]
-    .map(BuildOptions::for_primitives);
-    let key = |o: &BuildOptions| (o.max_leaf_size, o.traversal_cost, o.block_size);
-    assert_eq!(
-        tiers.map(|o| key(&o)),
-        [(4, 1.0, 8), (8, 1.0, 8), (8, 2.0, 8), (16, 2.0, 8)]
-    );
-    assert_eq!(tiers[3], BuildOptions::default());
-    for (tier, bound) in bounds.into_iter().enumerate() {
+        (8, 1.0, SMALL_SCENE_PRICED_BLOCK),
+        (4, 1.0, 8),
+        (8, 1.0, 8),
+        (8, 2.0, 8),
+        (16, 2.0, 8),
+    ];
+    let [small_blocks, small_records, medium, large, defaults] = tiers;
+    for (count, kind, tier) in [
+        (1, Blocks, small_blocks),
+        (SMALL_BLOCKS - 1, Blocks, small_blocks),
+        (SMALL_BLOCKS, Blocks, medium),
+        (1, Records, small_records),
+        (SMALL_RECORDS - 1, Records, small_records),
+        (SMALL_RECORDS, Records, medium),
+        (MEDIUM - 1, Blocks, medium),
+        (MEDIUM, Blocks, large),
+        (MEDIUM, Records, large),
+        (LARGE - 1, Records, large),
+        (LARGE, Blocks, defaults),
+        (LARGE, Records, defaults),
+    ] {
         assert_eq!(
-            BuildOptions::for_primitives(bound - 1),
-            tiers[tier],
-            "below {bound}"
+            key(BuildOptions::for_primitives(count, kind)),
+            tier,
+            "{count} {kind:?}"
         );
     }
+    assert_eq!(
+        BuildOptions::for_primitives(LARGE, Blocks),
+        BuildOptions::default()
+    );
+
+    // A mesh and a cloud of spheres are built for blocks, a mixed scene for records.
     let mesh = random::bumpy_sphere(5_000, 7);
-    assert_eq!(BuildOptions::for_primitives(mesh.len()), tiers[0]);
+    for (name, prims, kind, other) in [
+        ("mesh", &mesh, Blocks, Records),
+        ("spheres", &random::random_spheres(3_000, 8), Blocks, Records),
+        ("mixed", &random::random_mixed(3_000, 9), Records, Blocks),
+    ] {
+        let built = Bvh::new(prims).info();
+        let with =
+            |kind| Bvh::with_options(prims, &BuildOptions::for_primitives(built.primitives, kind)).info();
+        assert_eq!(built, with(kind), "{name}");
+        assert_ne!(built, with(other), "{name}");
+    }
+
     let rays = support::bvh::random_rays(support::bvh::scene_bounds(&mesh), 20_000, 107);
     let mut infos = Vec::new();
-    for options in &tiers {
-        let bvh = Bvh::with_options(&mesh, options);
+    for (max_leaf_size, traversal_cost, block_size) in tiers {
+        let options = BuildOptions {
+            max_leaf_size,
+            traversal_cost,
+            block_size,
+            ..BuildOptions::default()
+        };
+        let bvh = Bvh::with_options(&mesh, &options);
         infos.push(bvh.info());
         support::bvh::check_rays(&mesh, &bvh, &rays, &format!("{options:?}"));
     }
-    // Leaves of up to 4, of up to one block, and of more than one block.
+    // Leaves of up to 4, of up to one block, and of more than one block;
+    // priced per 4, more of them than priced per block.
     let largest: Vec<usize> = infos.iter().map(|i| i.max_leaf_size).collect();
     assert!(
-        largest[0] <= 4 && largest[1..3].iter().all(|l| (5..=8).contains(l)) && largest[3] > 8,
+        largest[1] <= 4 && [0, 2, 3].iter().all(|&t| (5..=8).contains(&largest[t])) && largest[4] > 8,
         "largest leaves {largest:?}"
     );
-    assert!(infos[0].leaves > infos[1].leaves, "{infos:?}");
+    assert!(infos[0].leaves > infos[2].leaves, "{infos:?}");
 }
 
 /// A polygon the tree holds as watertight pieces counts as its pieces when
@@ -132,7 +164,7 @@ fn four_leaf_tiers() {
 #[test]
 fn polygons_count_as_their_pieces() {
     use glam::Vec3;
-    use raypack::accel::bvh::{BuildOptions, SMALL_SCENE_PRIMITIVES};
+    use raypack::accel::bvh::{BuildOptions, LeafKind, SMALL_BLOCK_SCENE_PRIMITIVES as SMALL};
     use raypack::geometry::Polygon;
     // Star-shaped (concave) 40-gons, each 38 pieces, side by side.
     let star = |centre: Vec3| -> Vec<Vec3> {
@@ -144,7 +176,7 @@ fn polygons_count_as_their_pieces() {
             })
             .collect()
     };
-    let polygons = SMALL_SCENE_PRIMITIVES / 38 + 1;
+    let polygons = SMALL / 38 + 1;
     let prims: Vec<Primitive> = (0..polygons)
         .map(|i| {
             let centre = Vec3::new((i % 64) as f32 * 3.0, (i / 64) as f32 * 3.0, 0.0);
@@ -153,9 +185,12 @@ fn polygons_count_as_their_pieces() {
         .collect();
     let bvh = Bvh::new(&prims);
     assert_eq!(bvh.len(), polygons * 38);
-    assert!(prims.len() < SMALL_SCENE_PRIMITIVES && bvh.len() >= SMALL_SCENE_PRIMITIVES);
+    assert!(prims.len() < SMALL && bvh.len() >= SMALL);
     // Built with the options of its pieces' count, not of its polygons'.
-    let built_for = |count| Bvh::with_options(&prims, &BuildOptions::for_primitives(count)).info();
+    let built_for = |count| {
+        let options = BuildOptions::for_primitives(count, LeafKind::Blocks);
+        Bvh::with_options(&prims, &options).info()
+    };
     assert_eq!(bvh.info(), built_for(bvh.len()));
     assert_ne!(bvh.info(), built_for(prims.len()));
 }

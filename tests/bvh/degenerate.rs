@@ -5,7 +5,7 @@
 
 use crate::support;
 use glam::{Mat4, Vec3};
-use raypack::accel::bvh::{BuildOptions, MAX_DEPTH};
+use raypack::accel::bvh::{BuildOptions, LeafKind, MAX_DEPTH};
 use raypack::accel::{Accel, BruteForce, Bvh};
 use raypack::geometry::plane::Plane;
 use raypack::geometry::{Primitive, Sphere, Transformed, Triangle};
@@ -73,7 +73,9 @@ fn primitives_all_in_one_point() {
         .chain((0..50).map(|_| sphere(Vec3::ZERO, 0.0)))
         .collect();
     check("identical triangles", &tris, 20_000);
-    assert!(Bvh::new(&tris).info().max_leaf_size <= BuildOptions::for_primitives(tris.len()).max_leaf_size);
+    // Triangles beside spheres: leaves of records, no larger than their tier allows.
+    let records = BuildOptions::for_primitives(tris.len(), LeafKind::Records);
+    assert!(Bvh::new(&tris).info().max_leaf_size <= records.max_leaf_size);
 }
 
 #[test]

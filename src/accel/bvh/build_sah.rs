@@ -47,7 +47,8 @@ pub struct BuildOptions {
     pub traversal_cost: f32,
     /// …the cost of one leaf test, of up to `block_size` primitives.
     pub intersection_cost: f32,
-    /// Primitives one leaf test covers ([`BLOCK_SIZE`]; 1 prices each primitive alone).
+    /// Primitives one leaf test covers ([`BLOCK_SIZE`]; 4 for small scenes of
+    /// blocks, see [`SMALL_BLOCK_SCENE_PRIMITIVES`]; 1 prices each primitive alone).
     pub block_size: usize,
 }
 
@@ -63,25 +64,48 @@ impl Default for BuildOptions {
     }
 }
 
-/// Scenes of fewer primitives than this get leaves of up to 4 and a node
-/// cost of 1 ([`BuildOptions::for_primitives`]).
+/// How a scene's leaves are tested, which decides how large the SAH lets
+/// them grow ([`BuildOptions::for_primitives`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LeafKind {
+    /// Every leaf can hold blocks of one kind (a triangle mesh, a cloud of
+    /// spheres), each block tested by a single ray at once.
+    Blocks,
+    /// Some leaves hold records, tested one primitive at a time (cylinders,
+    /// cones, a leaf mixing kinds).
+    Records,
+}
+
+/// Scenes of blocks ([`LeafKind::Blocks`]) of fewer primitives than this get
+/// leaves of up to one block (8), a node cost of 1 and leaves priced per
+/// [`SMALL_SCENE_PRICED_BLOCK`] primitives, not per block.
 ///
 /// A small tree stays in the caches, so a ray's time goes into tests rather
-/// than loads, and small leaves save the tests; more so in scenes whose
-/// leaves hold records (SPD tree at 32,767 cones and spheres: leaves of up
-/// to 8 traced it 2–4× slower), so the bound stays 2¹⁵, though 2·10⁴-triangle
-/// meshes ran 5–15% faster with one-block leaves. Leaves of up to 8 priced per
-/// 4 primitives traced triangle and sphere scenes as fast and built them
-/// faster, but slowed scenes whose leaves hold records (SPD rings and tree,
-/// cylinders and cones: 0.35–0.86×), so they are not used (figures:
-/// `docs/measurements.md`, "Constants"; `docs/tried-not-kept.md`).
-pub const SMALL_SCENE_PRIMITIVES: usize = 1 << 15;
+/// than loads. Priced per block, a leaf of 5–8 costs what one of 4 does and
+/// is never split, though packets test each of its primitives against their
+/// lanes; priced per 4 it is split where the split saves tests. That traces
+/// small triangle scenes as fast as leaves of up to 4 (coherent packets 1–4%
+/// slower, single rays and incoherent packets 0–14% faster) and builds them
+/// up to 1.4× faster (figures: `docs/measurements.md`, "Constants").
+pub const SMALL_BLOCK_SCENE_PRIMITIVES: usize = 1 << 14;
 
-/// Scenes of fewer primitives than this, and no fewer than
-/// [`SMALL_SCENE_PRIMITIVES`], get leaves of up to one block (8) and a node
-/// cost of 1, leaves priced per block. At 3·10⁴–4·10⁴ triangles one-block
-/// leaves trace faster than leaves of up to 4 or 16, and a node cost of 1
-/// faster than 2 (figures: `docs/measurements.md`, "Constants").
+/// Primitives a leaf test of a small scene of blocks is priced at
+/// ([`SMALL_BLOCK_SCENE_PRIMITIVES`]): half a block.
+pub const SMALL_SCENE_PRICED_BLOCK: usize = 4;
+
+/// Scenes with records ([`LeafKind::Records`]) of fewer primitives than this
+/// get leaves of up to 4 and a node cost of 1. Records are tested one at a
+/// time, so a larger leaf costs a test per primitive: leaves of up to 8
+/// traced SPD rings and tree (cylinders, cones) 0.35–0.86× as fast, and the
+/// tree at 32,767 cones and spheres 2–4× slower (figures:
+/// `docs/measurements.md`, "Constants").
+pub const SMALL_RECORD_SCENE_PRIMITIVES: usize = 1 << 15;
+
+/// Scenes of fewer primitives than this, above the small ones, get leaves of
+/// up to one block (8) and a node cost of 1, leaves priced per block. At
+/// 2·10⁴–4·10⁴ triangles one-block leaves trace faster than leaves of up to
+/// 4 or 16, and a node cost of 1 faster than 2 (figures:
+/// `docs/measurements.md`, "Constants").
 pub const MEDIUM_SCENE_PRIMITIVES: usize = 3 << 14;
 
 /// Scenes of fewer primitives than this, and no fewer than
@@ -95,24 +119,26 @@ pub const LARGE_SCENE_PRIMITIVES: usize = 1 << 19;
 
 impl BuildOptions {
     /// The options [`Bvh::new`](crate::accel::Bvh::new) builds `count`
-    /// primitives with: the defaults, with leaves of up to 4 for small scenes
-    /// ([`SMALL_SCENE_PRIMITIVES`]), of up to one block below
-    /// [`LARGE_SCENE_PRIMITIVES`], and a cheaper node for small and medium
-    /// ones ([`MEDIUM_SCENE_PRIMITIVES`]).
-    pub fn for_primitives(count: usize) -> Self {
+    /// primitives whose leaves are `kind` with: the defaults, with smaller
+    /// leaves for small scenes ([`SMALL_BLOCK_SCENE_PRIMITIVES`],
+    /// [`SMALL_RECORD_SCENE_PRIMITIVES`]), leaves of up to one block below
+    /// [`LARGE_SCENE_PRIMITIVES`], and a cheaper node below
+    /// [`MEDIUM_SCENE_PRIMITIVES`].
+    pub fn for_primitives(count: usize, kind: LeafKind) -> Self {
         let defaults = Self::default();
-        let (max_leaf_size, traversal_cost) = if count < SMALL_SCENE_PRIMITIVES {
-            (4, 1.0)
-        } else if count < MEDIUM_SCENE_PRIMITIVES {
-            (BLOCK_SIZE, 1.0)
-        } else if count < LARGE_SCENE_PRIMITIVES {
-            (BLOCK_SIZE, defaults.traversal_cost)
-        } else {
-            return defaults;
+        let (max_leaf_size, traversal_cost, block_size) = match kind {
+            LeafKind::Blocks if count < SMALL_BLOCK_SCENE_PRIMITIVES => {
+                (BLOCK_SIZE, 1.0, SMALL_SCENE_PRICED_BLOCK)
+            }
+            LeafKind::Records if count < SMALL_RECORD_SCENE_PRIMITIVES => (4, 1.0, BLOCK_SIZE),
+            _ if count < MEDIUM_SCENE_PRIMITIVES => (BLOCK_SIZE, 1.0, BLOCK_SIZE),
+            _ if count < LARGE_SCENE_PRIMITIVES => (BLOCK_SIZE, defaults.traversal_cost, BLOCK_SIZE),
+            _ => return defaults,
         };
         Self {
             max_leaf_size,
             traversal_cost,
+            block_size,
             ..defaults
         }
     }

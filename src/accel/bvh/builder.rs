@@ -5,7 +5,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::accel::bvh::build_sah::{self, BuildOptions};
+use crate::accel::bvh::build_sah::{self, BuildOptions, LeafKind};
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::leaf_store::{Holds, LeafStore, TreeItem};
 use crate::accel::bvh::node::{Node, NodePair};
@@ -16,17 +16,23 @@ use crate::geometry::{Primitive, Triangle};
 use crate::simd::Isa;
 
 impl Bvh {
-    /// Build over `prims` with the [`BuildOptions`] for the number of items
-    /// the tree holds ([`BuildOptions::for_primitives`]): a polygon tested as
-    /// watertight pieces counts as its pieces, as [`Bvh::len`] counts it (an
-    /// SPD gears scene's 9,345 polygons are 36,610 triangles in the tree).
+    /// Build over `prims` with the [`BuildOptions`] for the items the tree
+    /// holds and how its leaves are tested ([`BuildOptions::for_primitives`]):
+    /// a polygon tested as watertight pieces counts as its pieces, as
+    /// [`Bvh::len`] counts it (an SPD gears scene's 9,345 polygons are 36,610
+    /// triangles in the tree), and a scene whose items all go into blocks of
+    /// one kind is built for blocks ([`LeafKind::Blocks`]).
     pub fn new(prims: &[Primitive]) -> Self {
-        let items = prims.iter().map(|p| pieces_of(p).map_or(1, <[_]>::len)).sum();
-        Self::with_options(prims, &BuildOptions::for_primitives(items))
+        Self::build(prims, None)
     }
 
-    /// Build over `prims`; a hit's primitive index is the position in `prims`.
+    /// Build over `prims` with `options`; a hit's primitive index is the position in `prims`.
     pub fn with_options(prims: &[Primitive], options: &BuildOptions) -> Self {
+        Self::build(prims, Some(options))
+    }
+
+    /// Build over `prims` with `options`, or with those for its items if none.
+    fn build(prims: &[Primitive], options: Option<&BuildOptions>) -> Self {
         // The tree's items: the primitives, then the pieces of the polygons
         // tested as watertight pieces, which stand in for their polygon (tight
         // boxes, and triangle blocks in the leaves), each naming it.
@@ -54,6 +60,11 @@ impl Bvh {
                 )
             })
             .unzip();
+        // The options for the items the tree holds, unless given.
+        let options = options.copied().unwrap_or_else(|| {
+            let (count, kind) = tree_items(&boxes, &item_holds);
+            BuildOptions::for_primitives(count, kind)
+        });
         // Where some cannot be held, sort the items into the tree's, the
         // unbounded and the skipped; the tree's then have ids of their own.
         // (Mostly all can: then a tree index is an input index.)
@@ -85,7 +96,7 @@ impl Bvh {
         let (mut pairs, order) = if boxes.is_empty() {
             (vec![NodePair([Node::EMPTY; 2])], Vec::new())
         } else {
-            let built = build_sah::build(&boxes, options);
+            let built = build_sah::build(&boxes, &options);
             (built.pairs, built.order)
         };
         // Store each leaf's items; the leaf nodes then point there.
@@ -145,6 +156,27 @@ impl Bvh {
         bvh.packet_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
         (bvh, order)
     }
+}
+
+/// How many of the items with `boxes` the tree holds (those with a box), and
+/// how its leaves will be tested: in blocks if every one of them would go
+/// into blocks of one kind (`holds`, each item's alone).
+fn tree_items(boxes: &[Aabb], holds: &[Holds]) -> (usize, LeafKind) {
+    let agree = |a: Option<Holds>, b: Option<Holds>| match (a, b) {
+        (None, h) | (h, None) => h,
+        (Some(a), Some(b)) => Some(if a == b { a } else { Holds::Mixed }),
+    };
+    let (count, all) = boxes
+        .par_iter()
+        .zip(holds)
+        .filter(|(b, _)| !b.is_empty())
+        .map(|(_, &h)| (1, Some(h)))
+        .reduce(|| (0, None), |(n, a), (m, b)| (n + m, agree(a, b)));
+    let kind = match all {
+        Some(Holds::Triangles(_) | Holds::Spheres) => LeafKind::Blocks,
+        _ => LeafKind::Records,
+    };
+    (count, kind)
 }
 
 /// The watertight pieces of the polygons in `prims` tested so, each with its

@@ -35,7 +35,7 @@ use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::accel::bvh::Bvh;
-use crate::accel::bvh::build_sah::BuildOptions;
+use crate::accel::bvh::build_sah::{BuildOptions, LeafKind};
 use crate::accel::bvh::dispatch::at_width;
 use crate::accel::bvh::query::Scope;
 use crate::accel::bvh::traverse_packet::trace_packet;
@@ -112,7 +112,7 @@ impl<B: Accel + Send> TwoLevel<B> {
         let options = BuildOptions {
             max_leaf_size: TOP_LEAF_SIZE,
             block_size: 1,
-            ..BuildOptions::for_primitives(boxes.len())
+            ..BuildOptions::for_primitives(boxes.len(), LeafKind::Records)
         };
         let (top, order) = Bvh::over_boxes(&boxes, unbounded.len(), &options);
         let placed = order
