@@ -75,7 +75,8 @@ fn closed_mesh() {
 /// with records leaves of up to 4, both a node cost of 1; then either kind
 /// leaves of up to one block with node cost 1 (medium) and 2 (large), and the
 /// defaults above (leaves of up to 16 in two blocks). Each tier starts at its
-/// bound; `Bvh::new` picks the tier of its items' count and kind; and trees
+/// bound; `Bvh::new` picks the tier of its items' count and kind (blocks if
+/// at most one item in 100 is of another kind); and trees
 /// of the five tiers over the same mesh answer as brute force does, single
 /// rays and packets.
 #[test]
@@ -120,10 +121,14 @@ fn leaf_tiers() {
         BuildOptions::default()
     );
 
-    // A mesh and a cloud of spheres are built for blocks, a mixed scene for records.
+    // A mesh, a cloud of spheres and a mesh beside a few spheres (one item in
+    // 500) are built for blocks, a scene of four kinds for records.
     let mesh = random::bumpy_sphere(5_000, 7);
+    let mut mesh_and_spheres = mesh.clone();
+    mesh_and_spheres.extend(random::random_spheres(10, 10));
     for (name, prims, kind, other) in [
         ("mesh", &mesh, Blocks, Records),
+        ("mesh and spheres", &mesh_and_spheres, Blocks, Records),
         ("spheres", &random::random_spheres(3_000, 8), Blocks, Records),
         ("mixed", &random::random_mixed(3_000, 9), Records, Blocks),
     ] {

@@ -68,8 +68,8 @@ impl Default for BuildOptions {
 /// them grow ([`BuildOptions::for_primitives`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LeafKind {
-    /// Every leaf can hold blocks of one kind (a triangle mesh, a cloud of
-    /// spheres), each block tested by a single ray at once.
+    /// Nearly every leaf can hold blocks of one kind (a triangle mesh, a
+    /// cloud of spheres), each block tested by a single ray at once.
     Blocks,
     /// Some leaves hold records, tested one primitive at a time (cylinders,
     /// cones, a leaf mixing kinds).

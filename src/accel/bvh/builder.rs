@@ -12,7 +12,7 @@ use crate::accel::bvh::node::{Node, NodePair};
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::wide;
 use crate::bounds::Aabb;
-use crate::geometry::{Primitive, Triangle};
+use crate::geometry::{Primitive, Triangle, TriangleTest};
 use crate::simd::Isa;
 
 impl Bvh {
@@ -20,8 +20,8 @@ impl Bvh {
     /// holds and how its leaves are tested ([`BuildOptions::for_primitives`]):
     /// a polygon tested as watertight pieces counts as its pieces, as
     /// [`Bvh::len`] counts it (an SPD gears scene's 9,345 polygons are 36,610
-    /// triangles in the tree), and a scene whose items all go into blocks of
-    /// one kind is built for blocks ([`LeafKind::Blocks`]).
+    /// triangles in the tree), and a scene whose items (all but one in 100)
+    /// go into blocks of one kind is built for blocks ([`LeafKind::Blocks`]).
     pub fn new(prims: &[Primitive]) -> Self {
         Self::build(prims, None)
     }
@@ -159,25 +159,45 @@ impl Bvh {
 }
 
 /// How many of the items with `boxes` the tree holds (those with a box), and
-/// how its leaves will be tested: in blocks if every one of them would go
-/// into blocks of one kind (`holds`, each item's alone).
+/// how its leaves will be tested: in blocks if all of them but at most one
+/// in [`BLOCK_SCENE_ODD_ITEM_IN`] would go into blocks of one kind (`holds`,
+/// each item's alone). The few others make leaves of records where they fall.
 fn tree_items(boxes: &[Aabb], holds: &[Holds]) -> (usize, LeafKind) {
-    let agree = |a: Option<Holds>, b: Option<Holds>| match (a, b) {
-        (None, h) | (h, None) => h,
-        (Some(a), Some(b)) => Some(if a == b { a } else { Holds::Mixed }),
+    // Items per kind: watertight and barycentric triangles, spheres, records.
+    let slot = |h: Holds| match h {
+        Holds::Triangles(TriangleTest::Watertight) => 0,
+        Holds::Triangles(TriangleTest::Barycentric) => 1,
+        Holds::Spheres => 2,
+        Holds::Mixed => 3,
     };
-    let (count, all) = boxes
+    let per_kind = boxes
         .par_iter()
         .zip(holds)
         .filter(|(b, _)| !b.is_empty())
-        .map(|(_, &h)| (1, Some(h)))
-        .reduce(|| (0, None), |(n, a), (m, b)| (n + m, agree(a, b)));
-    let kind = match all {
-        Some(Holds::Triangles(_) | Holds::Spheres) => LeafKind::Blocks,
-        _ => LeafKind::Records,
+        .fold(
+            || [0usize; 4],
+            |mut n, (_, &h)| {
+                n[slot(h)] += 1;
+                n
+            },
+        )
+        .reduce(|| [0; 4], |a, b| std::array::from_fn(|k| a[k] + b[k]));
+    let count = per_kind.iter().sum();
+    let most_in_blocks = per_kind[..3].iter().copied().max().unwrap_or(0);
+    let odd = count - most_in_blocks;
+    let kind = if most_in_blocks > 0 && odd * BLOCK_SCENE_ODD_ITEM_IN <= count {
+        LeafKind::Blocks
+    } else {
+        LeafKind::Records
     };
     (count, kind)
 }
+
+/// A scene is built for blocks ([`LeafKind::Blocks`]) if no more than one
+/// item in this many would go into other leaves than blocks of its main
+/// kind: SPD mount's 4 spheres beside 8,192 triangles, SPD balls' floor
+/// beside 7,381 spheres. (SPD rings and tree are half records: cones.)
+const BLOCK_SCENE_ODD_ITEM_IN: usize = 100;
 
 /// The watertight pieces of the polygons in `prims` tested so, each with its
 /// polygon's index.
