@@ -93,12 +93,24 @@ unsafe impl GlobalAlloc for HugePageAlloc {
             // SAFETY: the caller's contract is System's.
             return unsafe { System.realloc(block, layout, new_size) };
         }
-        if is_huge(layout)
-            && is_huge(new_layout)
-            && layout.size().next_multiple_of(HUGE_PAGE_BYTES) == new_size.next_multiple_of(HUGE_PAGE_BYTES)
-        {
-            // The same whole huge pages hold the new size.
-            return block;
+        if is_huge(layout) && is_huge(new_layout) {
+            let (pages, new_pages) = (
+                layout.size().next_multiple_of(HUGE_PAGE_BYTES),
+                new_size.next_multiple_of(HUGE_PAGE_BYTES),
+            );
+            if new_pages == pages {
+                // The same whole huge pages hold the new size.
+                return block;
+            }
+            if new_pages < pages {
+                // Shrunk: the block keeps its first pages, and the whole
+                // pages past them are given back as a block of their own.
+                // SAFETY: `[new_pages, pages)` lies in the mapping of `block`
+                // (whole huge pages, so a block as `map` makes them), and is
+                // no longer the caller's.
+                unsafe { map::unmap(block.add(new_pages), pages - new_pages) };
+                return block;
+            }
         }
         // Into a new block and out of the old: growth by doubling keeps the
         // copies to the final size in all.
@@ -438,6 +450,33 @@ mod tests {
             assert!(blocks.iter().all(|b| !b.is_null()));
             blocks.iter().for_each(|&b| alloc.dealloc(b, layout));
             assert!(map::kept_bytes() <= KEPT_HUGE_BYTES);
+        }
+    }
+
+    /// A large block shrunk to fewer whole huge pages stays where it was,
+    /// with what it held (no copy); the pages past it are given back.
+    #[test]
+    fn shrinking_keeps_the_block_in_place() {
+        let alloc = HugePageAlloc;
+        let layout = Layout::from_size_align(12 * HUGE_PAGE_BYTES + 1, 64).expect("valid layout");
+        let shrunk_size = 5 * HUGE_PAGE_BYTES - 7;
+        // SAFETY: a non-zero layout; the block is written within its size and
+        // freed with its final layout.
+        unsafe {
+            let block = alloc.alloc(layout);
+            assert!(!block.is_null());
+            let data = std::slice::from_raw_parts_mut(block, layout.size());
+            data.iter_mut()
+                .enumerate()
+                .for_each(|(i, b)| *b = (i % 251) as u8);
+            let shrunk = alloc.realloc(block, layout, shrunk_size);
+            assert_eq!(shrunk, block);
+            let kept = std::slice::from_raw_parts(shrunk, shrunk_size);
+            assert!(kept.iter().enumerate().all(|(i, &b)| b == (i % 251) as u8));
+            alloc.dealloc(
+                shrunk,
+                Layout::from_size_align(shrunk_size, 64).expect("valid layout"),
+            );
         }
     }
 

@@ -404,7 +404,51 @@ impl BinScratch {
             right_weight: [Vec4::ZERO; MAX_BINS],
         }
     }
+
+    /// Clear the first `n_bins` bins and fill them with `refs`: on each axis,
+    /// a primitive's box joins the bin of its centroid (offset by `origin`,
+    /// scaled by `scale`, as [`bins_of`] places it), whose count goes up by
+    /// one. A node of [`BINNING_TASK_MIN`] primitives or more is binned in
+    /// parallel, in parts whose bins are then joined (unions and sums, so the
+    /// bins are the same as one pass makes): near the root, where the node
+    /// is large and no other task runs beside it.
+    fn fill(&mut self, refs: &[PrimRef], n_bins: usize, origin: Vec4, scale: Vec4) {
+        if refs.len() >= 2 * BINNING_TASK_MIN {
+            let (a, b) = refs.split_at(refs.len() / 2);
+            let mut other = BinScratch::new();
+            rayon::join(
+                || self.fill(a, n_bins, origin, scale),
+                || other.fill(b, n_bins, origin, scale),
+            );
+            for axis in 0..3 {
+                for (bin, theirs) in self.boxes[axis][..n_bins].iter_mut().zip(&other.boxes[axis]) {
+                    *bin = bin.union(theirs);
+                }
+            }
+            for (count, theirs) in self.counts[..n_bins].iter_mut().zip(&other.counts) {
+                *count += *theirs;
+            }
+            return;
+        }
+        for axis_boxes in self.boxes.iter_mut() {
+            axis_boxes[..n_bins].fill(Box3::EMPTY);
+        }
+        self.counts[..n_bins].fill(UVec4::ZERO);
+        for r in refs {
+            let k = bins_of(n_bins, r.centroid_lanes(), origin, scale);
+            for (axis, &k) in k.iter().enumerate() {
+                let bin = &mut self.boxes[axis][k];
+                *bin = bin.union(&r.bounds());
+                self.counts[k][axis] += 1;
+            }
+        }
+    }
 }
+
+/// The fewest primitives one task bins ([`BinScratch::fill`]): below twice
+/// this, a node is binned in one pass (a rayon task and a second set of bins
+/// cost about as much as binning a few hundred primitives).
+const BINNING_TASK_MIN: usize = 4096;
 
 /// The surface areas of three boxes, in lanes x, y, z (0 in w): each lane
 /// exactly what [`Box3::area`] computes, three boxes for the price of one.
@@ -621,26 +665,14 @@ impl Context {
             return None;
         }
         // Fill the bins of all three axes in one pass over the primitives.
+        // The fourth lanes (origin 0, scale 0) make a bin that `bins_of` drops.
+        scratch.fill(refs, n_bins, centroids.min.extend(0.0), scale.extend(0.0));
         let BinScratch {
             boxes,
             counts,
             right_tests,
             right_weight,
         } = scratch;
-        for axis_boxes in boxes.iter_mut() {
-            axis_boxes[..n_bins].fill(Box3::EMPTY);
-        }
-        counts[..n_bins].fill(UVec4::ZERO);
-        // The fourth lanes (origin 0, scale 0) make a bin that `bins_of` drops.
-        let (origin, scale_lanes) = (centroids.min.extend(0.0), scale.extend(0.0));
-        for r in refs.iter() {
-            let k = bins_of(n_bins, r.centroid_lanes(), origin, scale_lanes);
-            for axis in 0..3 {
-                let bin = &mut boxes[axis][k[axis]];
-                *bin = bin.union(&r.bounds());
-                counts[k[axis]][axis] += 1;
-            }
-        }
         // Right-to-left sweep, all axes at once: the leaf tests and SAH
         // weight of bins `i..`.
         let mut right = [Box3::EMPTY; 3];

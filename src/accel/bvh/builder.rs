@@ -124,8 +124,7 @@ impl Bvh {
             skipped,
             isa: Isa::default_level(),
         };
-        bvh.ray_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
-        bvh.packet_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
+        bvh.collapse();
         bvh
     }
 
@@ -152,9 +151,18 @@ impl Bvh {
             skipped: 0,
             isa: Isa::default_level(),
         };
-        bvh.ray_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
-        bvh.packet_tree = wide::collapse(&bvh.pairs, bvh.is_empty());
+        bvh.collapse();
         (bvh, order)
+    }
+
+    /// Collapse the binary tree into the single rays' and the packets' wide
+    /// trees, the two at once (each walks the binary tree on one thread).
+    fn collapse(&mut self) {
+        let empty = self.is_empty();
+        (self.ray_tree, self.packet_tree) = rayon::join(
+            || wide::collapse(&self.pairs, empty),
+            || wide::collapse(&self.pairs, empty),
+        );
     }
 }
 

@@ -228,13 +228,16 @@ impl<F: SimdFloat> WideNodeOf<F> {
 /// `F::LANES` children: node 0 holds the root's children (or the root itself
 /// when it is a leaf; nothing for an `empty` tree).
 pub fn collapse<F: SimdFloat>(pairs: &[NodePair], empty: bool) -> Vec<WideNodeOf<F>> {
-    // A full wide node stands for `LANES − 1` binary inner nodes (a pair
-    // each), so most trees need about this many.
-    let mut nodes = Vec::with_capacity(1 + pairs.len() / (F::LANES - 1).max(1));
+    // Every wide node but the first stands for a binary inner node of its
+    // own (one pair each), so the nodes never outgrow this: no copies as the
+    // vector grows. The part not filled is never touched (no pages behind it)
+    // and is given back at the end, in place.
+    let mut nodes = Vec::with_capacity(1 + pairs.len());
     nodes.push(WideNodeOf::empty());
     if !empty {
         fill(pairs, ROOT, 0, 0, &mut nodes);
     }
+    nodes.shrink_to_fit();
     nodes
 }
 

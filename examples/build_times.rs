@@ -1,0 +1,146 @@
+//! Build times of raypack's BVH beside Embree's, over many builds: what
+//! `bench traversal` and `bench matrix` report from three builds each, with
+//! enough of them that a change of a few percent shows.
+//!
+//! ```text
+//! cargo run --release --features embree --example build_times -- [--rounds 200] [--threads 1,2] SCENE...
+//! ```
+//!
+//! SCENE is a file or a `gen:` name, as `bench traversal` takes it. For each
+//! thread count (a rayon pool of that many threads for raypack, an Embree
+//! device of as many), the two engines build in turn, `--rounds` times after
+//! an untimed build each; every build is dropped before the next. Printed:
+//! the best and median milliseconds of each, and raypack's median over
+//! Embree's. Embree's time includes translating the primitives into its
+//! geometries, as `bench` counts it. Exit code 2 on bad arguments or a scene
+//! that does not load.
+
+use std::path::Path;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::time::Instant;
+
+use clap::Parser;
+use raypack::accel::Bvh;
+use raypack::embree::device::Device;
+use raypack::embree::scene::EmbreeScene;
+use raypack::scene::Scene;
+
+/// Huge pages for the large blocks, as the `raypack` binary has them.
+#[global_allocator]
+static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePageAlloc;
+
+/// Options.
+#[derive(Parser, Debug)]
+struct Args {
+    /// Scene files or `gen:` names.
+    #[arg(required = true)]
+    scenes: Vec<String>,
+    /// Timed builds of each engine per scene and thread count.
+    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    rounds: u32,
+    /// Thread counts, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = vec![1usize, 2])]
+    threads: Vec<usize>,
+}
+
+/// Best and median of `ms`.
+fn best_and_median(ms: &mut [f64]) -> (f64, f64) {
+    ms.sort_by(f64::total_cmp);
+    (ms[0], ms[ms.len() / 2])
+}
+
+/// The scene named by `name`: a `gen:` name or a file.
+fn load(name: &str) -> Result<Scene, String> {
+    match raypack::scene::generate::test_scenes::from_spec(name) {
+        Some(scene) => scene,
+        None => raypack::scene::load(Path::new(name)).map_err(|e| e.to_string()),
+    }
+}
+
+fn main() -> ExitCode {
+    // Freed blocks reused warm, as in the `raypack` binary.
+    raypack::huge_pages::keep_freed_memory();
+    let args = match Args::try_parse() {
+        Ok(a) => a,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+        }
+    };
+    let mut scenes = Vec::new();
+    for name in &args.scenes {
+        match load(name) {
+            Ok(s) => scenes.push((name, s)),
+            Err(e) => {
+                eprintln!("{name}: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let mut threads = args.threads.clone();
+    threads.sort_unstable();
+    threads.dedup();
+    println!(
+        "ms a build, {} builds of each engine after one untimed",
+        args.rounds
+    );
+    println!(
+        "{:24} {:>3} {:>9} {:>9} {:>9} {:>9} {:>7}",
+        "scene", "thr", "rp best", "rp med", "Em best", "Em med", "rp/Em"
+    );
+    // Fewest threads first: a TBB worker of an earlier, larger device would
+    // spin beside a smaller one's builds.
+    for &t in threads.iter().filter(|&&t| t > 0) {
+        let pool = match rayon::ThreadPoolBuilder::new().num_threads(t).build() {
+            Ok(p) => p,
+            Err(e) => {
+                eprintln!("{t} threads: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        let device = match Device::new(&format!("threads={t}")) {
+            Ok(d) => Arc::new(d),
+            Err(e) => {
+                eprintln!("Embree: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+        for (name, scene) in &scenes {
+            let prims = &scene.primitives;
+            // Every build runs on the pool, as `bench` runs them: no build
+            // waits for a sleeping worker to wake up.
+            let timed = pool.install(|| {
+                let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+                for round in 0..=args.rounds {
+                    let start = Instant::now();
+                    drop(Bvh::new(prims));
+                    let ms = 1e3 * start.elapsed().as_secs_f64();
+                    let start = Instant::now();
+                    drop(EmbreeScene::new(device.clone(), prims)?);
+                    let embree_ms = 1e3 * start.elapsed().as_secs_f64();
+                    if round > 0 {
+                        ours.push(ms);
+                        theirs.push(embree_ms);
+                    }
+                }
+                Ok::<_, raypack::embree::EmbreeError>((ours, theirs))
+            });
+            let (mut ours, mut theirs) = match timed {
+                Ok(t) => t,
+                Err(e) => {
+                    eprintln!("{name}: Embree: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
+            let ((rp_best, rp_med), (em_best, em_med)) =
+                (best_and_median(&mut ours), best_and_median(&mut theirs));
+            println!(
+                "{:24} {t:>3} {rp_best:9.3} {rp_med:9.3} {em_best:9.3} {em_med:9.3} {:7.3}",
+                name,
+                rp_med / em_med
+            );
+        }
+    }
+    ExitCode::SUCCESS
+}
