@@ -2,7 +2,7 @@
 //! and every ray set traced at every thread count, interleaved round by round.
 
 use std::hint::black_box;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::bench::rays::Query;
 use crate::bench::timing_hooks::TimingHooks;
@@ -15,6 +15,22 @@ use crate::engines::{Built, Engine};
 
 /// Timed builds of every structure per thread count, after an untimed round.
 const BUILD_ROUNDS: usize = 3;
+
+/// The least build time one round's sample of a structure sums: a structure
+/// that builds faster is built again (each build dropped, untimed, before the
+/// next), and the sample is the mean of its builds. A small scene's build of
+/// a millisecond or less moved 10-30% from one build to the next, so three
+/// single builds left its cell to chance; the dragon's (hundreds of ms) is
+/// still one build a round.
+const BUILD_SAMPLE: Duration = Duration::from_millis(30);
+
+/// How builds are timed, for the benches' footnotes.
+pub fn builds_how() -> String {
+    format!(
+        "builds: {BUILD_ROUNDS} rounds after a warm-up, each a structure's mean build time over builds summing {} ms (one build where that takes longer)",
+        BUILD_SAMPLE.as_millis()
+    )
+}
 
 /// `0..n` in round `round`'s order: forwards in even rounds, backwards in odd
 /// ones, so that nothing is measured first (or last) in every round.
@@ -141,10 +157,10 @@ fn build_rounds<'a>(
     Ok(structures)
 }
 
-/// Build the structure of every scene and engine of `pairs` once with
-/// `builder` on the current pool, in `round`'s order; past the untimed round
-/// 0 each build's time goes into `timings`. The structures go into `kept`
-/// when given, else are dropped.
+/// Build the structure of every scene and engine of `pairs` with `builder` on
+/// the current pool, in `round`'s order; past the untimed round 0 each is
+/// built until its builds sum [`BUILD_SAMPLE`], and their mean time goes into
+/// `timings`. The structures go into `kept` when given, else are dropped.
 fn build_each<'a>(
     builder: &Builder,
     pairs: &[(&'a TraversalSetup, EngineVariant)],
@@ -154,11 +170,21 @@ fn build_each<'a>(
 ) -> anyhow::Result<()> {
     for c in round_order(round, pairs.len()) {
         let (setup, variant) = pairs[c];
-        let start = Instant::now();
-        let structure = builder.build(variant, &setup.scene)?;
-        let ms = 1e3 * start.elapsed().as_secs_f64();
+        let (mut spent, mut builds) = (Duration::ZERO, 0u32);
+        let structure = loop {
+            let start = Instant::now();
+            let structure = builder.build(variant, &setup.scene)?;
+            spent += start.elapsed();
+            builds += 1;
+            if round == 0 || spent >= BUILD_SAMPLE {
+                break structure;
+            }
+            drop(structure);
+        };
         if round > 0 {
-            timings[c].build_ms.push(ms);
+            timings[c]
+                .build_ms
+                .push(1e3 * spent.as_secs_f64() / f64::from(builds));
         }
         if let Some(kept) = kept.as_deref_mut() {
             kept[c] = Some(structure);

@@ -27,7 +27,7 @@ mod trace;
 
 pub use engines::{Builder, EngineVariant};
 pub use instructions::{count_instructions, instructions_per_ray};
-pub use measure::measure;
+pub use measure::{builds_how, measure};
 pub use rows::{BestVsEmbree, KindRow, TraversalRow};
 pub use setup::{TraversalSetup, scene_bounds};
 pub use trace::{TILE_RAYS, trace_batch, trace_packets, trace_packets16, trace_single};

@@ -23,7 +23,8 @@ pub struct TraversalRow {
     pub embree_isa: Option<EmbreeIsa>,
     /// Threads of the rayon pool.
     pub threads: usize,
-    /// Build time, ms, of three builds.
+    /// Build time, ms: three samples, each the mean of a round's builds
+    /// (see `measure::BUILD_SAMPLE`).
     pub build_ms: Summary,
     /// The tree's SAH cost (raypack only: Embree does not report its tree).
     pub sah_cost: Option<f64>,

@@ -317,7 +317,7 @@ impl Table {
         self.line(&headline.words())?;
         self.line(&format!(
             "({} rounds per scene after a warm-up, thread counts, engines, ray kinds and paths interleaved; \
-             primary rays {}x{}, secondary rays from their hits, {} random rays; Embree at {})",
+             primary rays {}x{}, secondary rays from their hits, {} random rays; Embree at {}; {})",
             args.rounds,
             args.size.0,
             args.size.1,
@@ -326,7 +326,8 @@ impl Table {
                 .iter()
                 .map(|i| i.name())
                 .collect::<Vec<_>>()
-                .join(" and ")
+                .join(" and "),
+            crate::bench::traversal::builds_how()
         ))
     }
 }

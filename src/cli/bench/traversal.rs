@@ -124,9 +124,10 @@ pub fn run(args: TraversalArgs) -> CliResult {
             "({} rounds after a warm-up, thread counts, scenes, engines, ray kinds and variants \
              interleaved round by round, backwards in odd rounds, builds too; ratios from the rounds \
              paired; random rays: {} from the scene box, uniform directions; secondary rays from the \
-             primary hits; transparent huge pages: {})",
+             primary hits; {}; transparent huge pages: {})",
             args.rounds,
             args.random,
+            crate::bench::traversal::builds_how(),
             crate::huge_pages::system_mode().as_deref().unwrap_or("unknown")
         )
     })
