@@ -21,7 +21,7 @@ use crate::simd::isa::{Level, LevelTask, level_task};
 
 /// Run `task` on the level of `bvh`.
 #[inline(always)]
-fn on_level<T: LevelTask>(bvh: &Bvh, task: T) -> T::Output {
+pub(super) fn on_level<T: LevelTask>(bvh: &Bvh, task: T) -> T::Output {
     // SAFETY: a Bvh's level is one this CPU runs (`Bvh::set_isa` and
     // `Isa::default_level` check it).
     unsafe { bvh.isa().run(task) }

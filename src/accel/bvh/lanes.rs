@@ -7,6 +7,7 @@ use std::mem::MaybeUninit;
 
 use glam::Vec3;
 
+use crate::accel::bvh::dispatch::on_level;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::query::{INTERLEAVED, LaneQueries, RayQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::SlabRay;
@@ -52,12 +53,7 @@ fn interleaved_walks<R: RayQuery, W: TreeWidth, S: Counter>(
     walks: &mut [(usize, SlabRay, R)],
     stats: &mut S,
 ) -> u32 {
-    // SAFETY: a Bvh's level is one this CPU runs (`Bvh::set_isa` and
-    // `Isa::default_level` check it).
-    unsafe {
-        bvh.isa()
-            .run(interleaved::Task::<R, W, S>::new(bvh, start, walks, stats))
-    }
+    on_level(bvh, interleaved::Task::<R, W, S>::new(bvh, start, walks, stats))
 }
 
 /// [`interleaved_walks`]' task (a module of its own: the codegen unit of its
