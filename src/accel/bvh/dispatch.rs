@@ -1,5 +1,5 @@
 //! Where a BVH query picks its instruction set: each query is a
-//! [`LevelTask`], run by [`Isa::run`](crate::simd::Isa::run) on the level of [`Bvh::isa`], so the
+//! [`LevelTask`](crate::simd::isa::LevelTask), run by [`Isa::run`](crate::simd::Isa::run) on the level of [`Bvh::isa`], so the
 //! traversal below it is compiled once per level with that level's lane types
 //! (Embree likewise compiles its kernels per ISA and picks them at run time).
 //! Everything a task calls is `#[inline(always)]`, so it is compiled into the
@@ -17,39 +17,31 @@ use crate::accel::stats::Counter;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::simd::SimdFloat;
-use crate::simd::isa::{Level, LevelTask, level_task};
-
-/// Run `task` on the level of `bvh`.
-#[inline(always)]
-pub(super) fn on_level<T: LevelTask>(bvh: &Bvh, task: T) -> T::Output {
-    // SAFETY: a Bvh's level is one this CPU runs (`Bvh::set_isa` and
-    // `Isa::default_level` check it).
-    unsafe { bvh.isa().run(task) }
-}
+use crate::simd::isa::{Level, level_task};
 
 /// The nearest hit of `ray`.
 #[inline(always)]
 pub fn intersect<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> Hit {
-    on_level(bvh, single_nearest::Task::new(bvh, ray, stats))
+    bvh.on_level(single_nearest::Task::new(bvh, ray, stats))
 }
 
 /// Whether anything lies on `ray` within `[t_min, t_max]`.
 #[inline(always)]
 pub fn occluded<S: Counter>(bvh: &Bvh, ray: &Ray, stats: &mut S) -> bool {
-    on_level(bvh, single_blocked::Task::new(bvh, ray, stats))
+    bvh.on_level(single_blocked::Task::new(bvh, ray, stats))
 }
 
 /// [`Accel::intersect_each_counted`](crate::accel::Accel::intersect_each_counted):
 /// the rays one by one, all in one entry of the level's code.
 #[inline(always)]
 pub fn intersect_each<S: Counter>(bvh: &Bvh, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
-    on_level(bvh, each_nearest::Task::new(bvh, rays, active, hits, stats))
+    bvh.on_level(each_nearest::Task::new(bvh, rays, active, hits, stats))
 }
 
 /// [`Accel::occluded_each_counted`](crate::accel::Accel::occluded_each_counted).
 #[inline(always)]
 pub fn occluded_each<S: Counter>(bvh: &Bvh, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
-    on_level(bvh, each_blocked::Task::new(bvh, rays, active, stats))
+    bvh.on_level(each_blocked::Task::new(bvh, rays, active, stats))
 }
 
 /// `$trace::<G>(args…)` with `G` the lane type of level `$L` as wide as `$F`,
@@ -118,7 +110,7 @@ pub fn intersect_packet<F: SimdFloat, S: Counter>(
     rays: &RayPacket<F>,
     stats: &mut S,
 ) -> HitPacket<F> {
-    on_level(bvh, packet_nearest::Task::new(bvh, rays, stats))
+    bvh.on_level(packet_nearest::Task::new(bvh, rays, stats))
 }
 
 /// The mask of active lanes of `rays` on which something lies within
@@ -130,7 +122,7 @@ pub fn occluded_packet<F: SimdFloat, S: Counter>(
     scope: Scope,
     stats: &mut S,
 ) -> F {
-    on_level(bvh, packet_blocked::Task::new(bvh, rays, scope, stats))
+    bvh.on_level(packet_blocked::Task::new(bvh, rays, scope, stats))
 }
 
 /// [`Accel::intersect_rays_counted`](crate::accel::Accel::intersect_rays_counted):
@@ -142,14 +134,14 @@ pub fn intersect_rays<F: SimdFloat, S: Counter>(
     mask: u32,
     stats: &mut S,
 ) -> HitPacket<F> {
-    on_level(bvh, rays_nearest::Task::<F, S>::new(bvh, rays, mask, stats))
+    bvh.on_level(rays_nearest::Task::<F, S>::new(bvh, rays, mask, stats))
 }
 
 /// [`Accel::occluded_rays_counted`](crate::accel::Accel::occluded_rays_counted),
 /// as [`intersect_rays`].
 #[inline(always)]
 pub fn occluded_rays<F: SimdFloat, S: Counter>(bvh: &Bvh, rays: &[Ray], mask: u32, stats: &mut S) -> F {
-    on_level(bvh, rays_blocked::Task::<F, S>::new(bvh, rays, mask, stats))
+    bvh.on_level(rays_blocked::Task::<F, S>::new(bvh, rays, mask, stats))
 }
 
 // Each query's task in a module of its own: the compiler places a task's

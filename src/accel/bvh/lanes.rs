@@ -7,7 +7,6 @@ use std::mem::MaybeUninit;
 
 use glam::Vec3;
 
-use crate::accel::bvh::dispatch::on_level;
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::query::{INTERLEAVED, LaneQueries, RayQuery, lane_bits, lane_groups};
 use crate::accel::bvh::ray_box::SlabRay;
@@ -53,7 +52,7 @@ fn interleaved_walks<R: RayQuery, W: TreeWidth, S: Counter>(
     walks: &mut [(usize, SlabRay, R)],
     stats: &mut S,
 ) -> u32 {
-    on_level(bvh, interleaved::Task::<R, W, S>::new(bvh, start, walks, stats))
+    bvh.on_level(interleaved::Task::<R, W, S>::new(bvh, start, walks, stats))
 }
 
 /// [`interleaved_walks`]' task (a module of its own: the codegen unit of its

@@ -8,7 +8,7 @@ use crate::accel::bvh::leaf_store::LeafStore;
 use crate::accel::bvh::node::{Node, NodeId, NodePair, ROOT, node_in};
 use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes, WideNodeOf};
 use crate::bounds::Aabb;
-use crate::simd::isa::IsaError;
+use crate::simd::isa::{IsaError, LevelTask};
 use crate::simd::{Isa, SimdFloat};
 
 /// Most bytes of a leaf [`Bvh::prefetch`] asks for (a wide node is prefetched whole).
@@ -111,6 +111,15 @@ impl Bvh {
     /// The instruction set queries run on: [`Isa::default_level`] when built.
     pub fn isa(&self) -> Isa {
         self.isa
+    }
+
+    /// Run `task` on this tree's instruction set ([`Bvh::isa`]): the one
+    /// place a query enters the level's code.
+    #[inline(always)]
+    pub(crate) fn on_level<T: LevelTask>(&self, task: T) -> T::Output {
+        // SAFETY: a Bvh's level is one this CPU runs (`Bvh::set_isa` and
+        // `Isa::default_level` check it).
+        unsafe { self.isa.run(task) }
     }
 
     /// Run queries on `isa` from now on; an error if this CPU cannot run it.

@@ -47,7 +47,7 @@ use crate::geometry::transformed::Affine;
 use crate::packet::{HitPacket, RayPacket};
 use crate::ray::{Hit, Ray};
 use crate::scene::Scene;
-use crate::simd::isa::{Level, LevelTask, level_task};
+use crate::simd::isa::{Level, level_task};
 use crate::simd::{Simd8, SimdFloat};
 
 use placed::Placed;
@@ -164,13 +164,6 @@ impl<B> TwoLevel<B> {
             meshes: &self.meshes,
         }
     }
-
-    /// Run `task` on the top tree's instruction set.
-    #[inline(always)]
-    fn on_level<T: LevelTask>(&self, task: T) -> T::Output {
-        // SAFETY: the top tree's level is one this CPU runs (`Isa::default_level` checks it).
-        unsafe { self.top.isa().run(task) }
-    }
 }
 
 impl<B: BottomLevel> TwoLevel<B> {
@@ -250,7 +243,7 @@ fn counted_once<S: Counter, T>(stats: &mut S, rays: u64, packet: bool, walk: imp
     result
 }
 
-/// The level entry points of the queries ([`LevelTask`]s): everything below
+/// The level entry points of the queries ([`LevelTask`](crate::simd::isa::LevelTask)s): everything below
 /// them is `#[inline(always)]`, compiled once per instruction set.
 mod tasks {
     use super::*;
@@ -358,7 +351,8 @@ impl<B: BottomLevel> Accel for TwoLevel<B> {
         let mut hit = Hit::none(ray);
         let hits = std::slice::from_mut(&mut hit);
         counted_once(stats, 1, false, |stats| {
-            self.on_level(tasks::Each::new(self, std::slice::from_ref(ray), 1, hits, stats))
+            self.top
+                .on_level(tasks::Each::new(self, std::slice::from_ref(ray), 1, hits, stats))
         });
         hit
     }
@@ -370,35 +364,37 @@ impl<B: BottomLevel> Accel for TwoLevel<B> {
     ) -> HitPacket<F> {
         let lanes = u64::from(rays.active.bitmask().count_ones());
         counted_once(stats, lanes, true, |stats| {
-            self.on_level(tasks::Packet::new(self, rays, stats))
+            self.top.on_level(tasks::Packet::new(self, rays, stats))
         })
     }
 
     fn occluded_counted<S: Counter>(&self, ray: &Ray, stats: &mut S) -> bool {
         let ray = std::slice::from_ref(ray);
         counted_once(stats, 1, false, |stats| {
-            self.on_level(tasks::EachBlocked::new(self, ray, 1, stats)) == 1
+            self.top.on_level(tasks::EachBlocked::new(self, ray, 1, stats)) == 1
         })
     }
 
     fn occluded_packet_counted<F: SimdFloat, S: Counter>(&self, rays: &RayPacket<F>, stats: &mut S) -> F {
         let lanes = u64::from(rays.active.bitmask().count_ones());
         counted_once(stats, lanes, true, |stats| {
-            self.on_level(tasks::PacketBlocked::new(self, rays, stats))
+            self.top.on_level(tasks::PacketBlocked::new(self, rays, stats))
         })
     }
 
     fn intersect_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, hits: &mut [Hit], stats: &mut S) {
         let count = u64::from(active.count_ones());
         counted_once(stats, count, false, |stats| {
-            self.on_level(tasks::Each::new(self, rays, active, hits, stats))
+            self.top
+                .on_level(tasks::Each::new(self, rays, active, hits, stats))
         });
     }
 
     fn occluded_each_counted<S: Counter>(&self, rays: &[Ray], active: u32, stats: &mut S) -> u32 {
         let count = u64::from(active.count_ones());
         counted_once(stats, count, false, |stats| {
-            self.on_level(tasks::EachBlocked::new(self, rays, active, stats))
+            self.top
+                .on_level(tasks::EachBlocked::new(self, rays, active, stats))
         })
     }
 }
