@@ -408,10 +408,10 @@ impl BinScratch {
     /// Clear the first `n_bins` bins and fill them with `refs`: on each axis,
     /// a primitive's box joins the bin of its centroid (offset by `origin`,
     /// scaled by `scale`, as [`bins_of`] places it), whose count goes up by
-    /// one. A node of [`BINNING_TASK_MIN`] primitives or more is binned in
-    /// parallel, in parts whose bins are then joined (unions and sums, so the
-    /// bins are the same as one pass makes): near the root, where the node
-    /// is large and no other task runs beside it.
+    /// one. A node of twice [`BINNING_TASK_MIN`] primitives or more is binned
+    /// in parallel, in halves whose bins are then joined (unions and sums, so
+    /// the bins are the same as one pass makes): near the root, where the
+    /// node is large and no other task runs beside it.
     fn fill(&mut self, refs: &[PrimRef], n_bins: usize, origin: Vec4, scale: Vec4) {
         if refs.len() >= 2 * BINNING_TASK_MIN {
             let (a, b) = refs.split_at(refs.len() / 2);
