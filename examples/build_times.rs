@@ -9,21 +9,23 @@
 //! SCENE is a file or a `gen:` name, as `bench traversal` takes it. For each
 //! thread count (a rayon pool of that many threads for raypack, an Embree
 //! device of as many), the two engines build in turn, `--rounds` times after
-//! an untimed build each; every build is dropped before the next. Printed:
-//! the best and median milliseconds of each, and raypack's median over
-//! Embree's. Embree's time includes translating the primitives into its
-//! geometries, as `bench` counts it. Exit code 2 on bad arguments or a scene
-//! that does not load.
+//! an untimed build each; every build is dropped before the next. Both are
+//! built through the engine registry as `bench` builds them
+//! ([`EngineDevice::build_scene`]): a scene with instances builds a
+//! structure per distinct mesh and one over the instances (raypack's
+//! two-level tree, Embree's instance geometries), not its own primitives
+//! alone. Printed: the best and median milliseconds of each, and raypack's
+//! median over Embree's. Embree's time includes translating the primitives
+//! into its geometries, as `bench` counts it. Exit code 2 on bad arguments or
+//! a scene that does not load.
 
 use std::path::Path;
 use std::process::ExitCode;
-use std::sync::Arc;
 use std::time::Instant;
 
 use clap::Parser;
-use raypack::accel::Bvh;
-use raypack::embree::device::Device;
-use raypack::embree::scene::EmbreeScene;
+use raypack::embree_settings::EmbreeIsa;
+use raypack::engines::{Engine, EngineDevice, EngineOptions};
 use raypack::scene::Scene;
 
 /// Huge pages for the large blocks, as the `raypack` binary has them.
@@ -48,6 +50,16 @@ struct Args {
 fn best_and_median(ms: &mut [f64]) -> (f64, f64) {
     ms.sort_by(f64::total_cmp);
     (ms[0], ms[ms.len() / 2])
+}
+
+/// Milliseconds `device` takes to build its structure over `scene`, which is
+/// dropped (untimed) before this returns.
+fn build_ms(device: &EngineDevice, scene: &Scene) -> anyhow::Result<f64> {
+    let start = Instant::now();
+    let built = device.build_scene(scene)?;
+    let ms = 1e3 * start.elapsed().as_secs_f64();
+    drop(built);
+    Ok(ms)
 }
 
 /// The scene named by `name`: a `gen:` name or a file.
@@ -99,37 +111,41 @@ fn main() -> ExitCode {
                 return ExitCode::FAILURE;
             }
         };
-        let device = match Device::new(&format!("threads={t}")) {
-            Ok(d) => Arc::new(d),
+        // Embree's default-quality build with its best kernels, on as many
+        // threads as the pool has (what `bench matrix` compares against).
+        let embree_options = EngineOptions {
+            embree_config: EmbreeIsa::Default.config(t),
+            ..EngineOptions::default()
+        };
+        let devices = Engine::Raypack
+            .device(&EngineOptions::default())
+            .and_then(|ours| Ok((ours, Engine::Embree.device(&embree_options)?)));
+        let (ours_device, embree_device) = match devices {
+            Ok(d) => d,
             Err(e) => {
-                eprintln!("Embree: {e}");
+                eprintln!("{e:#}");
                 return ExitCode::FAILURE;
             }
         };
         for (name, scene) in &scenes {
-            let prims = &scene.primitives;
             // Every build runs on the pool, as `bench` runs them: no build
             // waits for a sleeping worker to wake up.
             let timed = pool.install(|| {
                 let (mut ours, mut theirs) = (Vec::new(), Vec::new());
                 for round in 0..=args.rounds {
-                    let start = Instant::now();
-                    drop(Bvh::new(prims));
-                    let ms = 1e3 * start.elapsed().as_secs_f64();
-                    let start = Instant::now();
-                    drop(EmbreeScene::new(device.clone(), prims)?);
-                    let embree_ms = 1e3 * start.elapsed().as_secs_f64();
+                    let ms = build_ms(&ours_device, scene)?;
+                    let embree_ms = build_ms(&embree_device, scene)?;
                     if round > 0 {
                         ours.push(ms);
                         theirs.push(embree_ms);
                     }
                 }
-                Ok::<_, raypack::embree::EmbreeError>((ours, theirs))
+                anyhow::Ok((ours, theirs))
             });
             let (mut ours, mut theirs) = match timed {
                 Ok(t) => t,
                 Err(e) => {
-                    eprintln!("{name}: Embree: {e}");
+                    eprintln!("{name}: {e:#}");
                     return ExitCode::FAILURE;
                 }
             };
