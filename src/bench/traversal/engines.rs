@@ -29,7 +29,7 @@ impl EngineVariant {
 
     /// The options of this variant's device with `threads` build threads:
     /// raypack's BVH, Embree fast on its ISA setting.
-    fn options(self, threads: usize) -> EngineOptions {
+    pub fn options(self, threads: usize) -> EngineOptions {
         let defaults = EngineOptions::default();
         EngineOptions {
             embree_config: self
@@ -62,10 +62,7 @@ impl WithAccel<'_> for TraceKind<'_> {
 
 /// `engines` as measured, in the order given, Embree once per setting of
 /// `embree_isas`.
-pub(super) fn engine_variants(
-    engines: &[Engine],
-    embree_isas: &[EmbreeIsa],
-) -> anyhow::Result<Vec<EngineVariant>> {
+pub fn engine_variants(engines: &[Engine], embree_isas: &[EmbreeIsa]) -> anyhow::Result<Vec<EngineVariant>> {
     anyhow::ensure!(!engines.is_empty(), "no engine to measure");
     let mut variants: Vec<EngineVariant> = Vec::new();
     for &engine in engines {

@@ -25,7 +25,7 @@ mod rows;
 mod setup;
 mod trace;
 
-pub use engines::{Builder, EngineVariant};
+pub use engines::{Builder, EngineVariant, engine_variants};
 pub use instructions::{count_instructions, instructions_per_ray};
 pub use measure::{builds_how, measure};
 pub use rows::{BestVsEmbree, KindRow, TraversalRow};

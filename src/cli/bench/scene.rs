@@ -11,12 +11,13 @@ use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{KindRays, Query, RayKind, RaySource, default_light};
 use crate::bench::scene::{PrimaryFrame, Rays, Timing, Unit, Variant, interleave, units};
 use crate::bench::timing_hooks::TimingHooks;
-use crate::bench::traversal::scene_bounds;
+use crate::bench::traversal::{EngineVariant, engine_variants, scene_bounds};
 use crate::cli::args::{engine_error, load_scene, parse_size, scene_camera};
 use crate::cli::bench::output::{Output, Run, figure};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
-use crate::engines::{Engine, EngineOptions, WithAccel};
+use crate::embree_settings::EmbreeIsa;
+use crate::engines::{Engine, WithAccel};
 use crate::render::{Block, KernelKind};
 use crate::scene::Scene;
 use crate::statistics::{StatsError, Summary};
@@ -38,6 +39,10 @@ pub struct SceneArgs {
     /// Engines to measure, comma-separated (`embree` needs the `embree` feature).
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Engine::Raypack])]
     pub engine: Vec<Engine>,
+    /// Embree's ISA settings to measure with `--engine embree`,
+    /// comma-separated; raypack's rows are compared with the faster.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [EmbreeIsa::Avx2, EmbreeIsa::Default])]
+    pub embree_isa: Vec<EmbreeIsa>,
     /// Pixel blocks per batch (one 16-wide packet, or two 8-wide) to measure, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Block::B4x4])]
     pub block: Vec<Block>,
@@ -73,8 +78,8 @@ pub struct SceneArgs {
 pub struct SceneRow {
     /// Scene file name.
     pub scene: String,
-    /// `raypack` or `embree`.
-    pub engine: &'static str,
+    /// `raypack`, or Embree with its ISA setting: `embree(avx2)`, `embree(default)`.
+    pub engine: String,
     /// Kernel.
     pub kernel: &'static str,
     /// Acceleration structure.
@@ -93,9 +98,13 @@ pub struct SceneRow {
     /// measured (1 by default): the thread scaling.
     pub vs_fewest_threads: Summary,
     /// raypack rows: over Embree's on the same kernel width, block, threads
-    /// and ray kind (when Embree was measured).
+    /// and ray kind (when Embree was measured), the faster of its ISA
+    /// settings there (by median).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vs_embree: Option<Summary>,
+    /// The Embree setting of `vs_embree`: `embree(avx2)` or `embree(default)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_embree_engine: Option<String>,
     /// Ray kind measured.
     pub rays_kind: &'static str,
     /// Rays per run.
@@ -161,13 +170,18 @@ struct MeasurementPlan<'a> {
     runs: usize,
     hooks: &'a TimingHooks,
     /// The engines measured, in the order of their units' numbers.
-    engines: &'a [Engine],
+    engines: &'a [EngineVariant],
 }
 
 /// Builds one engine's units for some rays and variants, as its number.
 type UnitsOf<'x> = dyn Fn(Rays<'x>, &[Variant], usize) -> Result<Vec<Unit<'x>>, String> + 'x;
 
 impl MeasurementPlan<'_> {
+    /// The engine of each unit number (Embree once per ISA setting).
+    fn engine_families(&self) -> Vec<Engine> {
+        self.engines.iter().map(|v| v.engine).collect()
+    }
+
     /// The ray kinds measured, each with its rays and its variants.
     fn kinds(&self) -> Vec<(RayKind, Rays<'_>, &[Variant])> {
         let mut kinds: Vec<(RayKind, Rays<'_>, &[Variant])> = Vec::new();
@@ -185,7 +199,7 @@ impl MeasurementPlan<'_> {
     /// The variants of `variants` that engine `e` traces for `kind`: only the
     /// kernels it traces as such, and only the queries it has (see `run`'s notes).
     fn traced(&self, e: usize, kind: RayKind, variants: &[Variant]) -> Vec<Variant> {
-        let engine = self.engines[e];
+        let engine = self.engines[e].engine;
         let answers = kind.query() == Query::Nearest || engine.finds_any_hit().is_ok();
         variants
             .iter()
@@ -202,7 +216,7 @@ impl MeasurementPlan<'_> {
             for (e, units_of) in engines.iter().enumerate() {
                 all.extend(units_of(rays, &self.traced(e, kind, variants), e)?);
             }
-            let timings = interleave(&all, self.engines, self.runs, self.hooks, rays.count())?;
+            let timings = interleave(&all, &self.engine_families(), self.runs, self.hooks, rays.count())?;
             out.extend(all.iter().zip(timings).map(|(u, t)| (u.engine, kind, t)));
         }
         Ok(out)
@@ -217,7 +231,7 @@ impl MeasurementPlan<'_> {
             .num_threads(1)
             .build()
             .map_err(|e| e.to_string())?;
-        Engine::prepare_threads(self.engines, &pool);
+        Engine::prepare_threads(&self.engine_families(), &pool);
         let mut counted: Vec<String> = Vec::new();
         for (kind, rays, variants) in self.kinds() {
             for (e, units_of) in engines.iter().enumerate() {
@@ -239,9 +253,10 @@ impl MeasurementPlan<'_> {
 
 /// The name of the count of `engine`'s `variant` on `kind` rays (its thread
 /// count aside: counts are taken on one thread).
-fn count_label(engine: Engine, kind: RayKind, variant: Variant) -> String {
+fn count_label(engine: EngineVariant, kind: RayKind, variant: Variant) -> String {
     format!(
-        "{engine}/{}/{}/{}",
+        "{}/{}/{}/{}",
+        engine.name(),
         kind.name(),
         variant.kernel.name(),
         variant.block.name()
@@ -353,6 +368,8 @@ pub fn run(args: SceneArgs) -> CliResult {
     for note in &left_out {
         eprintln!("note: {note}");
     }
+    // Embree once per ISA setting asked for.
+    let engines = engine_variants(&engines, &args.embree_isa).map_err(CliError::BadInput)?;
     let plan = MeasurementPlan {
         frame: args.rays.contains(&RayKind::Primary).then_some(&frame),
         variants: &variants,
@@ -362,13 +379,16 @@ pub fn run(args: SceneArgs) -> CliResult {
         hooks: &run.hooks,
         engines: &engines,
     };
-    let options = EngineOptions {
-        accel: args.accel,
-        ..EngineOptions::default()
-    };
+    // Each device builds on one thread (Embree's `threads=1`), as before any
+    // rays are timed.
     let devices = engines
         .iter()
-        .map(|e| e.device(&options))
+        .map(|v| {
+            v.engine.device(&crate::engines::EngineOptions {
+                accel: args.accel,
+                ..v.options(1)
+            })
+        })
         .collect::<anyhow::Result<Vec<_>>>()
         .map_err(CliError::BadInput)?;
     let mut built = Vec::new();
@@ -406,7 +426,12 @@ pub fn run(args: SceneArgs) -> CliResult {
     let rows = measured
         .iter()
         .map(|m| {
-            let (ratio, vs_fewest_threads, vs_embree) = ratios(m, &measured)?;
+            let Ratios {
+                first: ratio,
+                fewest_threads: vs_fewest_threads,
+                vs_embree,
+            } = ratios(m, &measured)?;
+            let (vs_embree, vs_embree_engine) = vs_embree.unzip();
             Ok(SceneRow {
                 scene: name.clone(),
                 engine: m.engine.name(),
@@ -418,6 +443,7 @@ pub fn run(args: SceneArgs) -> CliResult {
                 ratio,
                 vs_fewest_threads,
                 vs_embree,
+                vs_embree_engine,
                 rays_kind: m.kind.name(),
                 rays: m.timing.rays,
                 hits: m.timing.hits,
@@ -436,11 +462,9 @@ pub fn run(args: SceneArgs) -> CliResult {
         .collect::<Result<Vec<_>, StatsError>>()
         .map_err(|e| CliError::Failed(e.into()))?;
     let figures = rows.iter().flat_map(SceneRow::figures).collect();
-    let embree = args
-        .engine
-        .contains(&Engine::Embree)
-        .then_some(crate::embree_settings::DEFAULT_EMBREE_CONFIG);
-    run.finish(rows, figures, embree, |rows| {
+    // The environment names Embree's first setting (its build thread count and ISA).
+    let embree = engines.iter().find_map(|v| v.embree_isa).map(|isa| isa.config(1));
+    run.finish(rows, figures, embree.as_deref(), |rows| {
         outln!(
             "{}: {} primitives{}, {}x{} primary rays through pixel centres (other kinds from their hits), \
              accel {}, {}px tiles, {} runs per variant after a warm-up, interleaved",
@@ -454,6 +478,12 @@ pub fn run(args: SceneArgs) -> CliResult {
             args.runs
         )?;
         print_table(rows)?;
+        if rows.iter().any(|r| r.vs_embree.is_some()) {
+            outln!(
+                "(vs embree: over the faster of Embree's settings measured ({}) on the same kernel, block and threads, run by run)",
+                args.embree_isa.iter().map(|isa| isa.name()).collect::<Vec<_>>().join(", ")
+            )?;
+        }
         if args.instructions {
             outln!(
                 "(instructions per ray: {})",
@@ -466,7 +496,7 @@ pub fn run(args: SceneArgs) -> CliResult {
 
 /// One variant of one engine and ray kind, measured.
 struct Measured {
-    engine: Engine,
+    engine: EngineVariant,
     /// The engine's structure (`bvh`, `none`, `embree`).
     structure: &'static str,
     kind: RayKind,
@@ -476,12 +506,6 @@ struct Measured {
     setup_seconds: f64,
 }
 
-/// The ratios of `m` within its ray kind, from runs paired round by round:
-/// over the kind's first variant, over the fewest threads of the same
-/// variant, and (raypack) over Embree on the same kernel, block and threads.
-/// The first two are over `m` itself at the latest. Every engine's variants
-/// are interleaved in the same rounds, so run `i` of one pairs with run `i` of
-/// another.
 /// What a scene with instances holds beside its primitive ids, for the
 /// header line: " (U unique, I instances)", or nothing for a flat scene.
 fn instanced_counts(scene: &Scene) -> String {
@@ -495,7 +519,24 @@ fn instanced_counts(scene: &Scene) -> String {
     )
 }
 
-fn ratios(m: &Measured, all: &[Measured]) -> Result<(Summary, Summary, Option<Summary>), StatsError> {
+/// The ratios of one row ([`ratios`]).
+struct Ratios {
+    /// Over the ray kind's first variant.
+    first: Summary,
+    /// Over the same engine and variant on the fewest threads.
+    fewest_threads: Summary,
+    /// raypack: over the faster Embree setting, and its name.
+    vs_embree: Option<(Summary, String)>,
+}
+
+/// The ratios of `m` within its ray kind, from runs paired round by round:
+/// over the kind's first variant, over the fewest threads of the same
+/// variant, and (raypack) over the faster Embree setting on the same kernel, block
+/// and threads.
+/// The first two are over `m` itself at the latest. Every engine's variants
+/// are interleaved in the same rounds, so run `i` of one pairs with run `i` of
+/// another.
+fn ratios(m: &Measured, all: &[Measured]) -> Result<Ratios, StatsError> {
     let v = m.timing.variant;
     let same_kind = || all.iter().filter(|o| o.kind == m.kind);
     let same_variant =
@@ -506,18 +547,30 @@ fn ratios(m: &Measured, all: &[Measured]) -> Result<(Summary, Summary, Option<Su
         .filter(|o| o.engine == m.engine && same_variant(o))
         .min_by_key(|o| o.timing.variant.threads)
         .unwrap_or(m);
-    let embree = same_kind().find(|o| {
-        m.engine == Engine::Raypack
-            && o.engine == Engine::Embree
-            && same_variant(o)
-            && o.timing.variant.threads == v.threads
-    });
-    Ok((over(first)?, over(fewest)?, embree.map(over).transpose()?))
+    // Against the faster Embree setting: the hardest comparison.
+    let median = |o: &Measured| o.timing.mrays_per_s().median;
+    let embree = same_kind()
+        .filter(|o| {
+            m.engine.engine == Engine::Raypack
+                && o.engine.engine == Engine::Embree
+                && same_variant(o)
+                && o.timing.variant.threads == v.threads
+        })
+        .max_by(|a, b| median(a).total_cmp(&median(b)));
+    let vs_embree = match embree {
+        Some(o) => Some((over(o)?, o.engine.name())),
+        None => None,
+    };
+    Ok(Ratios {
+        first: over(first)?,
+        fewest_threads: over(fewest)?,
+        vs_embree,
+    })
 }
 
 fn print_table(rows: &[SceneRow]) -> CliResult {
     outln!(
-        "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9} {:>15} {:>15} {:>15} {:>10}",
+        "{:<8} {:<15} {:<8} {:>5} {:>7} {:>20} {:>9} {:>15} {:>15} {:>15} {:>10}",
         "rays",
         "engine",
         "kernel",
@@ -536,7 +589,7 @@ fn print_table(rows: &[SceneRow]) -> CliResult {
             .instructions_per_ray
             .map_or(String::new(), |n| format!("{n:.0}"));
         outln!(
-            "{:<8} {:<8} {:<8} {:>5} {:>7} {:>20} {:>9.2} {:>15} {:>15} {:>15} {:>10}",
+            "{:<8} {:<15} {:<8} {:>5} {:>7} {:>20} {:>9.2} {:>15} {:>15} {:>15} {:>10}",
             r.rays_kind,
             r.engine,
             r.kernel,
