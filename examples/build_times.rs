@@ -19,7 +19,6 @@
 //! into its geometries, as `bench` counts it. Exit code 2 on bad arguments or
 //! a scene that does not load.
 
-use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -62,14 +61,6 @@ fn build_ms(device: &EngineDevice, scene: &Scene) -> anyhow::Result<f64> {
     Ok(ms)
 }
 
-/// The scene named by `name`: a `gen:` name or a file.
-fn load(name: &str) -> Result<Scene, String> {
-    match raypack::scene::generate::test_scenes::from_spec(name) {
-        Some(scene) => scene,
-        None => raypack::scene::load(Path::new(name)).map_err(|e| e.to_string()),
-    }
-}
-
 fn main() -> ExitCode {
     // Freed blocks reused warm, as in the `raypack` binary.
     raypack::huge_pages::keep_freed_memory();
@@ -82,10 +73,10 @@ fn main() -> ExitCode {
     };
     let mut scenes = Vec::new();
     for name in &args.scenes {
-        match load(name) {
+        match raypack::scene::generate::test_scenes::load_spec(name) {
             Ok(s) => scenes.push((name, s)),
             Err(e) => {
-                eprintln!("{name}: {e}");
+                eprintln!("{e}");
                 return ExitCode::from(2);
             }
         }

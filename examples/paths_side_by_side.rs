@@ -8,14 +8,15 @@
 //! cargo run --release --features embree --example paths_side_by_side -- [--rounds 7] [--size 1024] [--threads 1] [--cold-warm] SCENE KIND
 //! ```
 //!
-//! KIND is a `bench traversal` ray kind (`primary`, `shadow`, `ao`, `diffuse`,
+//! SCENE is a file or a `gen:` name, as `bench traversal` takes it; the
+//! primary rays come from a camera framing its box. KIND is a `bench
+//! traversal` ray kind (`primary`, `shadow`, `ao`, `diffuse`,
 //! `random`). With `--cold-warm` it times single rays instead, each batch of 16
 //! traced twice in a row: the first pass finds what the batch before it left in
 //! the caches, the second finds the batch's own nodes and leaves in L1, so the
 //! difference is what the batch's loads from L2 and beyond cost a ray.
 //! Exit code 2 on bad arguments or a scene that does not load.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -38,8 +39,8 @@ static ALLOC: raypack::huge_pages::HugePageAlloc = raypack::huge_pages::HugePage
 /// Options.
 #[derive(Parser, Debug)]
 struct Args {
-    /// Scene file.
-    scene: PathBuf,
+    /// Scene file, or `gen:NAME[:N[:SEED]]` for a generated scene.
+    scene: String,
     /// Ray kind.
     #[arg(value_enum)]
     kind: RayKind,
@@ -106,7 +107,7 @@ impl WithAccel<'_> for ColdWarm<'_> {
 }
 
 fn run(args: &Args) -> anyhow::Result<()> {
-    let scene = raypack::scene::load(&args.scene)?;
+    let scene = raypack::scene::generate::test_scenes::load_spec(&args.scene).map_err(anyhow::Error::msg)?;
     let camera = framing_camera(scene_bounds(&scene), args.size, args.size);
     // 2¹⁸ random rays, as `scripts/report.sh` measures them.
     let setup = TraversalSetup::new("scene", scene, &camera, None, 262_144, &[args.kind]);

@@ -25,7 +25,6 @@
 //! `valgrind --tool=cachegrind --branch-sim=yes … --sets random --columns
 //! raypack --rounds 1` (then `--rounds 2`: the difference is the rays').
 
-use std::path::Path;
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
@@ -38,7 +37,6 @@ use raypack::embree::scene::EmbreeScene;
 use raypack::ray::{Hit, Ray};
 use raypack::render::batch::BATCH;
 use raypack::rng::Rng;
-use raypack::scene::Scene;
 
 /// Huge pages for the large blocks, as the `raypack` binary has them.
 #[global_allocator]
@@ -126,14 +124,6 @@ fn ns_a_ray(accel: &impl Accel, rays: &[Ray], any_hit: bool, rounds: u32) -> f64
     best
 }
 
-/// The scene named by `name`: a `gen:` name or a file.
-fn load(name: &str) -> Result<Scene, String> {
-    match raypack::scene::generate::test_scenes::from_spec(name) {
-        Some(scene) => scene,
-        None => raypack::scene::load(Path::new(name)).map_err(|e| e.to_string()),
-    }
-}
-
 /// The three sets of rays over `bvh`'s box: away, random, repeated.
 fn ray_sets(bvh: &Bvh) -> [(Set, Vec<Ray>); 3] {
     let bounds = bvh.bounds();
@@ -177,10 +167,10 @@ fn main() -> ExitCode {
         "scene", "rays", "raypack", "Embree", "rp any", "Em any"
     );
     for name in &args.scenes {
-        let scene = match load(name) {
+        let scene = match raypack::scene::generate::test_scenes::load_spec(name) {
             Ok(s) => s,
             Err(e) => {
-                eprintln!("{name}: {e}");
+                eprintln!("{e}");
                 return ExitCode::from(2);
             }
         };

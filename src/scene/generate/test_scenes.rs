@@ -51,6 +51,16 @@ pub fn by_name(name: &str, n: usize, seed: u64) -> Option<Scene> {
     Some(scene_of(format!("generated:{name}:{n}:{seed}"), prims))
 }
 
+/// The scene `spec` names, as `bench` takes it: generated (`gen:…`, see
+/// [`from_spec`]) or a file ([`load`](crate::scene::load)); any error as
+/// text, which names the spec or the file.
+pub fn load_spec(spec: &str) -> Result<Scene, String> {
+    match from_spec(spec) {
+        Some(generated) => generated,
+        None => crate::scene::load(std::path::Path::new(spec)).map_err(|e| e.to_string()),
+    }
+}
+
 /// The scene named by a command-line argument `gen:NAME[:N[:SEED]]`; None when
 /// `spec` does not start with `gen:`. NAME is one of [`NAMES`] (N primitives,
 /// 1000 by default; seed 1 by default), or else a kind of `raypack gen`, as
@@ -159,6 +169,21 @@ pub fn uv_sphere_mesh(center: Vec3, radius: f32, n: usize) -> Vec<Primitive> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A `gen:` spec is generated, anything else is read as a file, whose
+    /// error names it.
+    #[test]
+    fn a_spec_is_generated_or_read_from_its_file() {
+        let generated = load_spec("gen:triangles:50:2").unwrap();
+        let in_code = from_spec("gen:triangles:50:2").unwrap().unwrap();
+        assert_eq!(generated.primitives, in_code.primitives);
+        let read = load_spec("scenes/lecture.toml").unwrap();
+        assert!(!read.primitives.is_empty());
+        let missing = load_spec("no/such/scene.nff").unwrap_err();
+        assert!(missing.contains("no/such/scene.nff"), "{missing}");
+        let unknown = load_spec("gen:no-such-scene").unwrap_err();
+        assert!(unknown.contains("gen:no-such-scene"), "{unknown}");
+    }
 
     #[test]
     fn every_named_scene_is_built_seeded_and_framed() {
