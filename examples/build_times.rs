@@ -102,8 +102,9 @@ fn main() -> ExitCode {
                 return ExitCode::FAILURE;
             }
         };
-        // Embree's default-quality build with its best kernels, on as many
-        // threads as the pool has (what `bench matrix` compares against).
+        // Embree's default-quality build at its default ISA setting, on as
+        // many threads as the pool has (`bench matrix` times both settings
+        // and takes the faster).
         let embree_options = EngineOptions {
             embree_config: EmbreeIsa::Default.config(t),
             ..EngineOptions::default()

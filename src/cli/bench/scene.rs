@@ -17,7 +17,7 @@ use crate::cli::bench::output::{Output, Run, figure};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
 use crate::embree_settings::EmbreeIsa;
-use crate::engines::{Engine, WithAccel};
+use crate::engines::{Engine, EngineOptions, WithAccel};
 use crate::render::{Block, KernelKind};
 use crate::scene::Scene;
 use crate::statistics::{StatsError, Summary};
@@ -379,12 +379,11 @@ pub fn run(args: SceneArgs) -> CliResult {
         hooks: &run.hooks,
         engines: &engines,
     };
-    // Each device builds on one thread (Embree's `threads=1`), as before any
-    // rays are timed.
+    // Embree's devices build on one thread (`threads=1`) at every ISA setting.
     let devices = engines
         .iter()
         .map(|v| {
-            v.engine.device(&crate::engines::EngineOptions {
+            v.engine.device(&EngineOptions {
                 accel: args.accel,
                 ..v.options(1)
             })
