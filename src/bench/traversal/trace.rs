@@ -1,6 +1,15 @@
 //! The timed loops: the single rays of one kind ([`KindRays`]) in batches, or its
 //! 8- or 16-ray packets, over any [`Accel`], tiles of [`TILE_RAYS`] spread over the
 //! current rayon pool. They count hits, so that the work cannot be skipped.
+//!
+//! Every tile is one rayon task (`with_max_len(1)`), as the renderer's are, so
+//! an idle thread steals whole tiles from a busy one. Left to rayon's
+//! adaptive split, a set of a few hundred tiles was cut into about four runs
+//! on two threads, each traced to its end by one thread, so the thread that
+//! finished first waited for the other's last run: 2-thread rounds ran
+//! 1.5–1.9× the 1-thread speed where a task per tile runs 2.0×, by more or
+//! less on each engine and ray kind (docs/measurements.md, "Two threads: one
+//! task per tile").
 
 use rayon::prelude::*;
 
@@ -25,6 +34,7 @@ pub fn trace_single(accel: &impl Accel, set: &KindRays) -> u64 {
     let query = set.kind.query();
     set.rays
         .par_chunks(TILE_RAYS)
+        .with_max_len(1)
         .map(|tile| {
             tile.chunks(BATCH)
                 .map(|rays| trace_batch(accel, rays, query))
@@ -65,6 +75,7 @@ pub fn trace_packets16(accel: &impl Accel, set: &KindRays) -> u64 {
 fn trace_packed<F: SimdFloat>(accel: &impl Accel, packets: &[RayPacket<F>], query: Query) -> u64 {
     packets
         .par_chunks(TILE_RAYS / F::LANES)
+        .with_max_len(1)
         .map(|tile| {
             tile.iter()
                 .map(|p| {
