@@ -18,7 +18,7 @@ use crate::accel::bvh::ray_box::{FAR_SCALE, SlabPacket};
 use crate::accel::bvh::stack::{TraversalStack, WIDE_STACK_SLOTS};
 use crate::accel::bvh::tree::Bvh;
 use crate::accel::bvh::tree::TreeWidth;
-use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes};
+use crate::accel::bvh::wide::{ChildRef, PacketTreeLanes, RayTreeLanes, WideNodeOf};
 use crate::accel::stats::Counter;
 use crate::simd::SimdFloat;
 
@@ -103,50 +103,11 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
             }
         } else {
             stats.packet_node(active);
-            // Test each child's box against the active lanes; the children
-            // met are pushed nearest last, so it is popped first.
             let node = &PacketTreeLanes::nodes(bvh)[next.node()];
-            let t_max = query.t_max();
-            let base = stack.len();
-            for i in 0..PacketTreeLanes::LANES {
-                let child = node.slot(i);
-                if child.is_empty() {
-                    break;
-                }
-                let b = node.child_bounds(i);
-                let (met, t) = slab.entry(b.min, b.max, t_max);
-                let met = met & active;
-                if met.none() {
-                    continue;
-                }
-                bvh.prefetch::<PacketTreeLanes>(child);
-                if !Q::NEAREST_FIRST {
-                    // Any hit: no order, and the lanes' reach does not shrink.
-                    stack.push(Pending {
-                        child,
-                        lanes: met.bitmask(),
-                        t_entry: f32::NEG_INFINITY,
-                    });
-                    continue;
-                }
-                let t_entry = met
-                    .select(t, F::splat(f32::INFINITY))
-                    .to_array()
-                    .as_ref()
-                    .iter()
-                    .fold(f32::INFINITY, |a, &b| a.min(b));
-                stack.push(Pending {
-                    child,
-                    lanes: met.bitmask(),
-                    t_entry,
-                });
-                // Keep the run of this node's children sorted by decreasing entry t.
-                let run = &mut stack.as_mut_slice()[base..];
-                let mut k = run.len() - 1;
-                while k > 0 && run[k - 1].t_entry < run[k].t_entry {
-                    run.swap(k - 1, k);
-                    k -= 1;
-                }
+            if Q::NEAREST_FIRST {
+                push_nearest_first(bvh, slab, node, active, query.t_max(), &mut stack);
+            } else {
+                push_any_order(bvh, slab, node, active, query.t_max(), &mut stack);
             }
         }
         // Pop the next child some lane can still find a hit in.
@@ -162,6 +123,115 @@ pub fn traverse_hybrid<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
                 break;
             }
         }
+    }
+}
+
+/// The lanes of `active` in the packet `slab` that meet the box of child
+/// `i` of `node` within their reach `t_max`, and their entry t.
+///
+/// A node's children are all tested before any is pushed (the empty slots
+/// too, whose box no finite ray meets), and the children met are then
+/// visited by their bits, so no branch asks whether a given child was met:
+/// on incoherent packets that is a coin toss, which a branch per child
+/// mispredicts.
+#[inline(always)]
+fn test_child<F: SimdFloat>(
+    slab: &SlabPacket<F>,
+    node: &WideNodeOf<PacketTreeLanes>,
+    i: usize,
+    active: F,
+    t_max: F,
+) -> (F, F) {
+    let b = node.child_bounds(i);
+    let (hit, t) = slab.entry(b.min, b.max, t_max);
+    (hit & active, t)
+}
+
+/// Test the children of `node` against the lanes `active` of the packet
+/// `slab` (reach `t_max`), and push those met with the lanes that met each,
+/// by decreasing smallest entry t, so the nearest is popped first (a
+/// nearest-hit query's order). The children are put in order by insertion:
+/// placing each by its rank without a branch, as single rays do, cost
+/// diffuse packets more than its mispredictions (docs/tried-not-kept.md).
+#[inline(always)]
+fn push_nearest_first<F: SimdFloat>(
+    bvh: &Bvh,
+    slab: &SlabPacket<F>,
+    node: &WideNodeOf<PacketTreeLanes>,
+    active: F,
+    t_max: F,
+    stack: &mut TraversalStack<Pending, WIDE_STACK_SLOTS>,
+) {
+    let mut lanes = [0u32; PacketTreeLanes::LANES];
+    let mut entries = [F::splat(f32::INFINITY); PacketTreeLanes::LANES];
+    let mut met = 0u32;
+    for i in 0..PacketTreeLanes::LANES {
+        let (hit, t) = test_child(slab, node, i, active, t_max);
+        lanes[i] = hit.bitmask();
+        entries[i] = hit.select(t, F::splat(f32::INFINITY));
+        met |= u32::from(lanes[i] != 0) << i;
+    }
+    let base = stack.len();
+    while met != 0 {
+        let i = met.trailing_zeros() as usize;
+        met &= met - 1;
+        let child = node.slot(i);
+        // Only rays with NaN or infinite input meet an empty slot.
+        if child.is_empty() {
+            continue;
+        }
+        bvh.prefetch::<PacketTreeLanes>(child);
+        let t_entry = entries[i]
+            .to_array()
+            .as_ref()
+            .iter()
+            .fold(f32::INFINITY, |a, &b| a.min(b));
+        stack.push(Pending {
+            child,
+            lanes: lanes[i],
+            t_entry,
+        });
+        // Keep the run of this node's children sorted by decreasing entry t.
+        let run = &mut stack.as_mut_slice()[base..];
+        let mut k = run.len() - 1;
+        while k > 0 && run[k - 1].t_entry < run[k].t_entry {
+            run.swap(k - 1, k);
+            k -= 1;
+        }
+    }
+}
+
+/// Test the children of `node` against the lanes `active` of the packet
+/// `slab` (reach `t_max`), and push those met with the lanes that met each,
+/// in slot order (an any-hit query's: no order, and the lanes' reach does
+/// not shrink).
+#[inline(always)]
+fn push_any_order<F: SimdFloat>(
+    bvh: &Bvh,
+    slab: &SlabPacket<F>,
+    node: &WideNodeOf<PacketTreeLanes>,
+    active: F,
+    t_max: F,
+    stack: &mut TraversalStack<Pending, WIDE_STACK_SLOTS>,
+) {
+    let mut lanes = [0u32; PacketTreeLanes::LANES];
+    let mut met = 0u32;
+    for (i, child_lanes) in lanes.iter_mut().enumerate() {
+        *child_lanes = test_child(slab, node, i, active, t_max).0.bitmask();
+        met |= u32::from(*child_lanes != 0) << i;
+    }
+    while met != 0 {
+        let i = met.trailing_zeros() as usize;
+        met &= met - 1;
+        let child = node.slot(i);
+        bvh.prefetch::<PacketTreeLanes>(child);
+        let entry = Pending {
+            child,
+            lanes: lanes[i],
+            t_entry: f32::NEG_INFINITY,
+        };
+        // Only rays with NaN or infinite input meet an empty slot.
+        stack.push_if(entry, !child.is_empty());
     }
 }
 
