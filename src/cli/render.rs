@@ -12,6 +12,7 @@ use crate::camera::Camera;
 use crate::cli::args::{check_image_memory, engine_error, load_scene, parse_size, scene_camera, thread_pool};
 use crate::cli::error::{CliError, CliResult};
 use crate::cli::stdout::outln;
+use crate::embree_settings::{DEFAULT_EMBREE_CONFIG, EmbreeMode};
 use crate::engines::{Engine, EngineOptions, WithAccel};
 use crate::picture::annotate::annotate_render;
 use crate::picture::heat_map::{HeatMapKind, NoPixelCosts};
@@ -51,6 +52,13 @@ pub struct Args {
     /// Engine that traces: raypack, or Embree (needs the `embree` feature).
     #[arg(long, value_enum, default_value_t = Engine::Raypack)]
     pub engine: Engine,
+    /// Embree device configuration (`--engine embree`): its kernels' ISA
+    /// (`isa=avx2`, or none for the best this CPU has) and BVH build threads.
+    #[arg(long, default_value = DEFAULT_EMBREE_CONFIG)]
+    pub embree_config: String,
+    /// Embree scene mode (`--engine embree`).
+    #[arg(long, value_enum, default_value_t = EmbreeMode::Fast)]
+    pub embree_mode: EmbreeMode,
     /// Maximum ray depth in whitted mode (the eye ray is depth 1).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub depth: u32,
@@ -183,14 +191,15 @@ pub fn run(args: Args) -> CliResult {
     };
     let options = EngineOptions {
         accel: args.accel,
-        ..EngineOptions::default()
+        embree_config: args.embree_config.clone(),
+        embree_mode: args.embree_mode,
     };
     let device_start = Instant::now();
     let device = args.engine.device(&options).map_err(CliError::BadInput)?;
     Engine::prepare_threads(&[args.engine], &pool);
     let built = device.build_scene(&scene).map_err(engine_error)?;
     let setup_seconds = device_start.elapsed().as_secs_f64();
-    let accel = built.describe().structure;
+    let description = built.describe();
     let out = built.visit(request);
 
     let report = RenderReport::new(
@@ -201,7 +210,8 @@ pub fn run(args: Args) -> CliResult {
             kernel: args.kernel,
             block: args.block,
             mode: args.mode,
-            accel,
+            accel: description.structure,
+            settings: description.settings,
             threads: pool.current_num_threads(),
             tile_size: args.tile,
             max_depth: args.depth,

@@ -36,6 +36,10 @@ pub struct RenderReport {
     pub isa: &'static str,
     /// Acceleration structure.
     pub accel: &'static str,
+    /// The engine as it describes itself: raypack's version and structure,
+    /// or Embree's version, device configuration (its kernels' ISA) and
+    /// scene mode.
+    pub settings: String,
     /// Worker threads.
     pub threads: usize,
     /// Tile edge in pixels.
@@ -130,8 +134,8 @@ pub struct TileTimes {
     pub cost_per_ray: Option<Vec<f64>>,
 }
 
-/// How a render was set up, besides its settings. 56 bytes.
-#[derive(Clone, Copy, Debug)]
+/// How a render was set up, besides its settings. 80 bytes.
+#[derive(Clone, Debug)]
 pub struct RunInfo {
     /// Engine.
     pub engine: Engine,
@@ -143,6 +147,8 @@ pub struct RunInfo {
     pub mode: Mode,
     /// Acceleration structure name.
     pub accel: &'static str,
+    /// The engine's description of itself (`Description::settings`).
+    pub settings: String,
     /// Worker threads.
     pub threads: usize,
     /// Tile edge.
@@ -175,6 +181,7 @@ impl RenderReport {
             block: info.block,
             isa: Isa::default_level().name(),
             accel: info.accel,
+            settings: info.settings.clone(),
             threads: info.threads,
             tile_size: info.tile_size,
             max_depth: info.max_depth,
@@ -223,17 +230,23 @@ impl RenderReport {
             Mode::Whitted => format!("whitted (depth {})", self.max_depth),
             m => m.name().to_string(),
         };
+        // raypack's kernels run on `isa`; another engine's description names
+        // its own (Embree's device configuration).
+        let (blocks, accel) = match self.engine {
+            Engine::Raypack => (
+                format!("{} blocks, {}", self.block.name(), self.isa),
+                self.accel.to_string(),
+            ),
+            _ => (format!("{} blocks", self.block.name()), self.settings.clone()),
+        };
         let mut lines = vec![
             format!(
-                "{}  {}x{}  mode: {}  kernel: {} ({} blocks, {})  accel: {}  threads: {}  tiles: {}px",
+                "{}  {}x{}  mode: {}  kernel: {} ({blocks})  accel: {accel}  threads: {}  tiles: {}px",
                 self.scene,
                 self.width,
                 self.height,
                 mode,
                 self.kernel.name(),
-                self.block.name(),
-                self.isa,
-                self.accel,
                 self.threads,
                 self.tile_size
             ),

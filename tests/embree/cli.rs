@@ -200,18 +200,23 @@ fn render_and_bench_scene_run_through_embree() {
     std::fs::create_dir_all(&dir).unwrap();
     let png = dir.join("lecture.png");
     let json = dir.join("lecture.json");
-    let o = raypack()
-        .args([
-            "render",
-            "scenes/lecture.toml",
-            "-o",
-            png.to_str().unwrap(),
-            "--size",
-            "64x48",
-        ])
-        .args(["--engine", "embree", "--stats-json", json.to_str().unwrap()])
-        .output()
-        .unwrap();
+    // `render --engine embree` with `extra` arguments, writing `png` and `json`.
+    let render = |extra: &[&str], png: &std::path::Path| {
+        raypack()
+            .args([
+                "render",
+                "scenes/lecture.toml",
+                "-o",
+                png.to_str().unwrap(),
+                "--size",
+                "64x48",
+            ])
+            .args(["--engine", "embree", "--stats-json", json.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = render(&[], &png);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(png.exists());
     let report = std::fs::read_to_string(&json).unwrap();
@@ -220,6 +225,26 @@ fn render_and_bench_scene_run_through_embree() {
     let parsed: serde_json::Value = serde_json::from_str(&report).unwrap();
     assert!(parsed["traversal"].is_null(), "{report}");
     assert_eq!(parsed["traversal_counted"], false);
+    // The settings it ran with: the default pairing, Embree's AVX2 kernels.
+    let settings = parsed["settings"].as_str().unwrap();
+    assert!(settings.contains("\"threads=1,isa=avx2\", fast"), "{settings}");
+
+    // Embree's own choice of kernels, robust mode; a configuration Embree
+    // refuses is a clear error, with nothing written.
+    let o = render(&["--embree-config", "threads=1", "--embree-mode", "robust"], &png);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let parsed: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let settings = parsed["settings"].as_str().unwrap();
+    assert!(settings.contains("\"threads=1\", robust"), "{settings}");
+    let refused = dir.join("refused.png");
+    let o = render(&["--embree-config", "threads=abc"], &refused);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("threads=abc"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!refused.exists());
 
     let o = raypack()
         .args([

@@ -39,6 +39,7 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
         block: settings.block,
         mode: settings.mode,
         accel: "none",
+        settings: "raypack 0.1.0, none".to_string(),
         threads: 2,
         tile_size: 16,
         max_depth: 4,
@@ -125,6 +126,25 @@ fn sidecar_caption_and_image_carry_the_same_numbers() {
     for (c, s) in tile_costs.iter().zip(&traversal.tiles) {
         assert_eq!(c.as_f64(), Some(s.cost_per_ray()));
     }
+
+    assert_eq!(json["settings"], "raypack 0.1.0, none");
+    // Another engine's caption names its own settings (Embree's kernels and
+    // mode), not raypack's instruction set.
+    let embree_info = RunInfo {
+        engine: Engine::Embree,
+        accel: "embree",
+        settings: "Embree 4.4.0 \"threads=1,isa=avx2\", fast".to_string(),
+        ..info.clone()
+    };
+    let embree_caption = RenderReport::new(&scene, &out, &embree_info).caption()[0].clone();
+    assert!(
+        embree_caption.contains("(8x2 blocks)  accel: Embree 4.4.0 \"threads=1,isa=avx2\", fast"),
+        "{embree_caption}"
+    );
+    assert!(
+        caption.contains(&format!("(8x2 blocks, {})  accel: none", report.isa)),
+        "{caption}"
+    );
 
     let plain = annotate_render(&out, &report, None).unwrap();
     let heat = annotate_render(&out, &report, Some(HeatMapKind::Time)).unwrap();

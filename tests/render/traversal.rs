@@ -368,6 +368,7 @@ fn the_cost_heat_map_is_refused_without_pixel_costs() {
         block: s.block,
         mode: s.mode,
         accel: "bvh",
+        settings: "raypack 0.1.0, bvh".to_string(),
         threads: 2,
         tile_size: 16,
         max_depth: 5,
