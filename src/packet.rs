@@ -120,85 +120,85 @@ impl<F: SimdFloat> RayPacket<F> {
 }
 
 /// Cosine of the widest angle (about 8°) between a lane's direction and the
-/// packet's mean direction for which a packet counts as coherent.
+/// first active lane's for which a packet counts as coherent ([`RayPacket::is_coherent`]).
 pub const COHERENT_COS: f32 = 0.99;
 
-/// Fraction of the scene box's diagonal that the origins of a packet's lanes
-/// must span for the packet to count as scattered ([`RayPacket::is_scattered`]).
+/// Fraction of the scene box's diagonal by which some lane's origin must lie
+/// from the first active lane's for the packet to count as scattered
+/// ([`RayPacket::is_scattered`]).
 pub const SCATTERED_SPREAD: f32 = 0.25;
 
 /// Classification: which walk suits a packet (the BVH traversal and Embree's
 /// adapter both ask).
 impl<F: SimdFloat> RayPacket<F> {
     /// True when every active lane's direction lies within [`COHERENT_COS`] of the
-    /// packet's mean direction, as for the primary rays of a pixel block or shadow
+    /// first active lane's, as for the primary rays of a pixel block or shadow
     /// rays from nearby points to one light. Such lanes stay together down to the
     /// leaves, where even one or two lanes finish a subtree as a packet faster than
     /// as single rays (measured on primary rays of the dragon against a fallback
     /// at 2 lanes), so coherent packets never fall back; incoherent ones are traced as single rays from the root.
+    ///
+    /// Asked of every packet (and again at every instance it enters), so it
+    /// compares the lanes with one of them rather than with their mean, whose
+    /// sums cost a lane at a time; packets are coherent or not by far either way.
     #[inline(always)]
     pub fn is_coherent(&self) -> bool {
-        let active = self.active;
-        let mean = Vec3::new(
-            active_sum(active, self.dir.x),
-            active_sum(active, self.dir.y),
-            active_sum(active, self.dir.z),
-        );
         let d = &self.dir;
-        let dot = d.x * F::splat(mean.x) + d.y * F::splat(mean.y) + d.z * F::splat(mean.z);
+        let Some(reference) = first_active_lane(self.active, d) else {
+            return true;
+        };
+        let reference_length2 = reference.length_squared();
+        // A zero or NaN reference direction is no direction to share.
+        if !(reference_length2 > 0.0) {
+            return false;
+        }
+        let dot = d.dot_splat(reference);
         let length2 = d.x * d.x + d.y * d.y + d.z * d.z;
-        // dot ≥ cos·|d|·|mean|, squared (both sides non-negative).
-        let bound = F::splat(COHERENT_COS * COHERENT_COS * mean.length_squared());
+        // dot ≥ cos·|d|·|reference|, squared (both sides non-negative).
+        let bound = F::splat(COHERENT_COS * COHERENT_COS * reference_length2);
         let inside = dot.ge(F::splat(0.0)) & (dot * dot).ge(bound * length2);
-        (inside & self.active).bitmask() == self.active.bitmask()
+        self.active.and_not(inside).none()
     }
 
-    /// True when the active lanes' origins span more than [`SCATTERED_SPREAD`] of
-    /// the diagonal of `scene` (the tree's box), as random rays from all over a
-    /// scene do. Such lanes share no node below the root, so sharing node tests
-    /// (the hybrid traversal) only costs, and walked as single rays interleaved
-    /// they beat single rays; secondary rays from a pixel block's hit points,
-    /// which do share their first nodes, lose that way.
+    /// True when some active lane's origin lies farther than
+    /// [`SCATTERED_SPREAD`] of the diagonal of `scene` (the tree's box) from
+    /// the first active lane's, as random rays from all over a scene do. Such
+    /// lanes share no node below the root, so sharing node tests (the hybrid
+    /// traversal) only costs, and walked as single rays interleaved they beat
+    /// single rays; secondary rays from a pixel block's hit points, which do
+    /// share their first nodes, lose that way. A NaN origin in an active lane
+    /// makes no packet scattered.
+    ///
+    /// Asked of every packet (and again at every instance it enters): one
+    /// lane against the others, not the lanes' extent, whose folds cost a lane at a time.
     #[inline(always)]
     pub fn is_scattered(&self, scene: &Aabb) -> bool {
-        let active = self.active;
-        let span = Vec3::new(
-            active_extent(active, self.origin.x),
-            active_extent(active, self.origin.y),
-            active_extent(active, self.origin.z),
-        );
+        let Some(first) = first_active_lane(self.active, &self.origin) else {
+            return false;
+        };
+        let offset = self.origin - V3::splat(first);
+        let distance2 = offset.dot(offset);
         let diagonal = scene.max - scene.min;
-        span.length_squared() > SCATTERED_SPREAD * SCATTERED_SPREAD * diagonal.length_squared()
+        let bound = F::splat(SCATTERED_SPREAD * SCATTERED_SPREAD * diagonal.length_squared());
+        let active = self.active;
+        (distance2.gt(bound) & active).any() && (distance2.ne(distance2) & active).none()
     }
 }
 
-/// The largest minus the smallest of the lanes of `x` where the mask `active`
-/// is set (−∞ with none set; NaN if one of them is NaN). Without a branch per
-/// lane: the other lanes enter the folds as ±∞, which change no minimum or
-/// maximum (a packet entering an instance asks this at every entry, with
-/// masks a branch predictor cannot learn).
+/// Lane `i` of `v`, where `i` is the lowest lane set in the mask `active`
+/// (none if no lane is set). Lane 0, the usual one, is read without a
+/// round trip through memory.
 #[inline(always)]
-fn active_extent<F: SimdFloat>(active: F, x: F) -> f32 {
-    if (x.ne(x) & active).any() {
-        return f32::NAN;
+fn first_active_lane<F: SimdFloat>(active: F, v: &V3<F>) -> Option<Vec3> {
+    let bits = active.bitmask();
+    if bits & 1 != 0 {
+        Some(v.lane(0))
+    } else if bits != 0 {
+        // (The remainder keeps the index provably in range: no panic path.)
+        Some(v.lane(bits.trailing_zeros() as usize % F::LANES))
+    } else {
+        None
     }
-    let low = active.select(x, F::splat(f32::INFINITY)).to_array();
-    let high = active.select(x, F::splat(f32::NEG_INFINITY)).to_array();
-    let low = low.as_ref().iter().fold(f32::INFINITY, |a, &v| a.min(v));
-    let high = high.as_ref().iter().fold(f32::NEG_INFINITY, |a, &v| a.max(v));
-    high - low
-}
-
-/// The sum of the lanes of `d` where the mask `active` is set, lane 0 first.
-#[inline(always)]
-fn active_sum<F: SimdFloat>(active: F, d: F) -> f32 {
-    let lanes = active.select(d, F::splat(0.0)).to_array();
-    // From −0, as `Iterator::sum` starts.
-    let mut sum = -0.0;
-    for &x in lanes.as_ref() {
-        sum += x;
-    }
-    sum
 }
 
 /// Hit records of a packet, one per lane. For `f32x8`: 7 vectors = 224 bytes.
@@ -349,39 +349,14 @@ mod tests {
         rays[1].origin = scene.max;
         assert!(RayPacket8::from_rays(&rays).is_scattered(&scene));
         assert!(!RayPacket8::from_rays_masked(&rays, 0b1111_1101).is_scattered(&scene));
+        // The first lane, far from the others, counts only while active.
+        assert!(!RayPacket8::from_rays_masked(&rays[1..], 0b1111_1110).is_scattered(&scene));
+        let mut far_first = [Ray::unbounded(scene.min, Vec3::Z); 8];
+        far_first[0].origin = scene.max;
+        assert!(RayPacket8::from_rays(&far_first).is_scattered(&scene));
+        assert!(!RayPacket8::from_rays_masked(&far_first, 0b1111_1110).is_scattered(&scene));
         rays[2].origin.x = f32::NAN;
         assert!(!RayPacket8::from_rays(&rays).is_scattered(&scene));
-    }
-
-    /// The extent of the active lanes, against the lanes picked one by one:
-    /// random masks, with NaN, infinite and signed-zero lanes among them.
-    #[test]
-    fn active_extent_is_that_of_the_active_lanes() {
-        let mut rng = Rng::new(9);
-        let special = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 0.0, -0.0];
-        for _ in 0..20_000 {
-            let lanes: [f32; 8] = std::array::from_fn(|_| {
-                if rng.below(6) == 0 {
-                    special[rng.below(special.len() as u32) as usize]
-                } else {
-                    rng.range(-10.0, 10.0)
-                }
-            });
-            let bits = rng.below(256);
-            let active: Vec<f32> = (0..8).filter(|&i| bits >> i & 1 == 1).map(|i| lanes[i]).collect();
-            let expect = if active.iter().any(|v| v.is_nan()) {
-                f32::NAN
-            } else {
-                let high = active.iter().fold(f32::NEG_INFINITY, |a, &v| a.max(v));
-                let low = active.iter().fold(f32::INFINITY, |a, &v| a.min(v));
-                high - low
-            };
-            let got = active_extent(wide::f32x8::mask_from_bits(bits), wide::f32x8::from(lanes));
-            assert!(
-                got.to_bits() == expect.to_bits() || got.is_nan() && expect.is_nan(),
-                "{lanes:?} {bits:08b}: {got} against {expect}"
-            );
-        }
     }
 
     #[test]
@@ -397,12 +372,18 @@ mod tests {
             .collect();
         assert!(!RayPacket8::from_rays(&random).is_coherent());
 
-        // Inactive lanes do not count; a NaN direction in an active lane breaks coherence.
+        // Inactive lanes do not count.
         let mut mixed = random.clone();
         mixed[..4].copy_from_slice(&[Ray::unbounded(Vec3::ZERO, Vec3::Z); 4]);
         assert!(RayPacket8::from_rays_masked(&mixed, 0b1111).is_coherent());
-        mixed[0].dir = Vec3::new(f32::NAN, 0.0, 1.0);
+        // A random first lane counts only while active, a NaN direction in any active lane breaks coherence.
+        mixed[0].dir = random[0].dir;
         assert!(!RayPacket8::from_rays_masked(&mixed, 0b1111).is_coherent());
+        assert!(RayPacket8::from_rays_masked(&mixed, 0b1110).is_coherent());
+        mixed[2].dir = Vec3::new(f32::NAN, 0.0, 1.0);
+        assert!(!RayPacket8::from_rays_masked(&mixed, 0b1110).is_coherent());
+        mixed[1].dir = Vec3::new(f32::NAN, 0.0, 1.0);
+        assert!(!RayPacket8::from_rays_masked(&mixed, 0b1110).is_coherent());
         // Directions 10° apart are not coherent, 5° apart are.
         let tilted = |deg: f32| {
             let a = deg.to_radians();

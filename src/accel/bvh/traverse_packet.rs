@@ -381,6 +381,7 @@ mod tests {
             let inside = Aabb::new(bounds.min + margin, bounds.max - margin);
             let (mut packet_stats, mut single_stats) =
                 (TraversalCounter::totals(), TraversalCounter::totals());
+            let mut scattered = 0;
             for _ in 0..500 {
                 let rays: Vec<Ray> = (0..F::LANES)
                     .map(|_| {
@@ -405,6 +406,11 @@ mod tests {
                     rng.below(all + 1) | 0b11
                 };
                 let packet = RayPacket::<F>::from_rays_masked(&rays, active);
+                // (Rarely, a few lanes' origins lie close together.)
+                if !packet.is_scattered(&bounds) {
+                    continue;
+                }
+                scattered += 1;
                 let hits = bvh.intersect_packet_counted(&packet, &mut packet_stats);
                 let occluded = bvh.occluded_packet_counted(&packet, &mut packet_stats).bitmask();
                 for (lane, ray) in rays.iter().enumerate().filter(|(l, _)| active >> l & 1 == 1) {
@@ -420,6 +426,7 @@ mod tests {
                     );
                 }
             }
+            assert!(scattered > 450, "{scattered} of 500 packets scattered");
             let (packet_stats, single_stats) = (packet_stats.total(), single_stats.total());
             assert_eq!(packet_stats.nodes_visited, single_stats.nodes_visited);
             assert_eq!(packet_stats.prim_tests, single_stats.prim_tests);
