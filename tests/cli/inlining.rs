@@ -189,12 +189,15 @@ fn entry_points_call_no_intrinsic_out_of_line() {
         calls.len()
     );
     if !optimised {
-        // At level 1 some entry points of every level call intrinsics out
-        // of line (9 of 51 each today), so each level is seen.
-        assert_eq!(
-            entries,
-            BTreeSet::from(["avx2", "avx512"].map(String::from)),
-            "entry points seen"
+        // At level 1 some entry points call intrinsics of their own level out
+        // of line (the AVX2 level's, today), so the check is seen to read
+        // entry points; which level's do depends on what LLVM leaves unmerged.
+        assert!(
+            entries
+                .iter()
+                .all(|level| ["avx2", "avx512"].contains(&level.as_str()))
+                && !entries.is_empty(),
+            "entry points seen: {entries:?}"
         );
     }
 }
