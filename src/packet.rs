@@ -191,9 +191,13 @@ impl<F: SimdFloat> RayPacket<F> {
 #[inline(always)]
 fn first_active_lane<F: SimdFloat>(active: F, v: &V3<F>) -> Option<Vec3> {
     let bits = active.bitmask();
+    if bits == 0 {
+        return None;
+    }
     // (The remainder keeps the index provably in range: a panic path in the
-    // walk's function cost primary packets 10%, docs/measurements.md.)
-    (bits != 0).then(|| v.lane(bits.trailing_zeros() as usize % F::LANES))
+    // walk's function cost primary packets 10%, docs/measurements.md. No
+    // closure: it must inline into every instruction set's entry point.)
+    Some(v.lane(bits.trailing_zeros() as usize % F::LANES))
 }
 
 /// Hit records of a packet, one per lane. For `f32x8`: 7 vectors = 224 bytes.
