@@ -8,6 +8,7 @@
 //! made an Embree device ([`Environment::with_embree`]), since this module sits
 //! below the Embree layer.
 
+use std::sync::OnceLock;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 use serde::{Deserialize, Serialize};
@@ -50,6 +51,10 @@ pub struct Environment {
     pub triangle_test: String,
     /// Transparent huge pages: the selected mode (`always`, `madvise`, `never`) or "unavailable".
     pub thp: String,
+    /// The largest cache level of the CPU ([`last_level_cache`]), if the
+    /// kernel says (none in results stored before it was recorded).
+    #[serde(default)]
+    pub last_level_cache: Option<CacheLevel>,
     /// Target architecture and operating system.
     pub target: String,
     /// `rustc --version` of the build.
@@ -94,6 +99,7 @@ impl Environment {
                 .and_then(thp_mode)
                 .unwrap_or("unavailable")
                 .to_string(),
+            last_level_cache: last_level_cache(),
             target: format!("{}-{}", std::env::consts::ARCH, std::env::consts::OS),
             rustc: env!("RAYPACK_BUILD_RUSTC").to_string(),
             profile: env!("RAYPACK_BUILD_PROFILE").to_string(),
@@ -153,6 +159,12 @@ impl Environment {
             ("isa (cpu)", list(&self.isa_cpu)),
             ("isa (kernels)", self.isa_label().to_string()),
             ("thp", self.thp.clone()),
+            (
+                "cache",
+                self.last_level_cache.map_or("unknown".into(), |c| {
+                    format!("{} KiB, level {} (the last)", c.bytes >> 10, c.level)
+                }),
+            ),
             ("target", self.target.clone()),
             ("rustc", self.rustc.clone()),
             ("profile", self.profile.clone()),
@@ -173,6 +185,53 @@ impl Environment {
         rows.push(("date", self.date.clone()));
         rows
     }
+}
+
+/// One level of the CPU's caches: its level (1, 2, 3 …) and its bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CacheLevel {
+    /// 1 for L1, 2 for L2, …
+    pub level: u32,
+    /// Its size in bytes (per instance: one core's L2, one complex's L3).
+    pub bytes: usize,
+}
+
+/// The largest data or unified cache of CPU 0
+/// (`/sys/devices/system/cpu/cpu0/cache/index*/`: the highest `level`, its
+/// `size`), read once; None where the kernel does not say. (Some virtual
+/// machines show no L3: then this is their L2.)
+pub fn last_level_cache() -> Option<CacheLevel> {
+    static LAST: OnceLock<Option<CacheLevel>> = OnceLock::new();
+    *LAST.get_or_init(|| {
+        let dir = std::fs::read_dir("/sys/devices/system/cpu/cpu0/cache").ok()?;
+        let read = |path: std::path::PathBuf| std::fs::read_to_string(path).ok();
+        dir.flatten()
+            .filter(|e| e.file_name().to_string_lossy().starts_with("index"))
+            .filter_map(|e| {
+                let kind = read(e.path().join("type"))?;
+                let level = read(e.path().join("level"))?.trim().parse().ok()?;
+                let bytes = cache_size(&read(e.path().join("size"))?)?;
+                (kind.trim() != "Instruction").then_some(CacheLevel { level, bytes })
+            })
+            .max_by_key(|c| (c.level, c.bytes))
+    })
+}
+
+/// A cache `size` as sysfs writes it (`32768K`, `1M`, or bytes), in bytes.
+fn cache_size(text: &str) -> Option<usize> {
+    let text = text.trim();
+    let (digits, unit) = match text.char_indices().find(|(_, c)| !c.is_ascii_digit()) {
+        Some((at, _)) => text.split_at(at),
+        None => (text, ""),
+    };
+    let scale = match unit {
+        "" => 1,
+        "K" => 1 << 10,
+        "M" => 1 << 20,
+        "G" => 1 << 30,
+        _ => return None,
+    };
+    digits.parse::<usize>().ok()?.checked_mul(scale)
 }
 
 /// The first `model name` of `/proc/cpuinfo`.
@@ -298,6 +357,15 @@ processor\t: 2\nmodel name\t: AMD EPYC 9B45\nphysical id\t: 0\ncore id\t\t: 1\n"
         assert_eq!(thp_mode("always [madvise] never\n"), Some("madvise"));
         assert_eq!(thp_mode("[always] madvise never"), Some("always"));
         assert_eq!(thp_mode("garbage"), None);
+    }
+
+    #[test]
+    fn reads_cache_sizes() {
+        assert_eq!(cache_size("32768K\n"), Some(32 << 20));
+        assert_eq!(cache_size("1M"), Some(1 << 20));
+        assert_eq!(cache_size("4096"), Some(4096));
+        assert_eq!(cache_size("12 KB"), None);
+        assert_eq!(cache_size(""), None);
     }
 
     #[test]

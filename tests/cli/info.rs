@@ -155,6 +155,7 @@ fn env_describes_the_machine_and_the_build() {
         "isa (build) ",
         "isa (cpu) ",
         "thp ",
+        "cache ",
         "rustc ",
         "profile ",
         "commit ",
@@ -173,6 +174,12 @@ fn env_describes_the_machine_and_the_build() {
     assert!(json["threads"].as_u64().unwrap() >= 1);
     assert!(json["rustc"].as_str().unwrap().starts_with("rustc 1."), "{json}");
     assert!(json["date"].as_str().unwrap().ends_with('Z'), "{json}");
+    // The last-level cache, where the kernel says: a level and a size.
+    let cache = &json["last_level_cache"];
+    assert!(
+        cache.is_null() || (cache["level"].as_u64().unwrap() >= 1 && cache["bytes"].as_u64().unwrap() > 0),
+        "{json}"
+    );
     let head = Command::new("git")
         .args(["rev-parse", "HEAD"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))

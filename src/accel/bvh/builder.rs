@@ -9,7 +9,7 @@ use crate::accel::bvh::build_sah::{self, BuildOptions, LeafKind};
 use crate::accel::bvh::leaf::LeafRef;
 use crate::accel::bvh::leaf_store::{Holds, LeafStore, TreeItem};
 use crate::accel::bvh::node::{Node, NodePair};
-use crate::accel::bvh::tree::Bvh;
+use crate::accel::bvh::tree::{Bvh, machine_cache_bytes};
 use crate::accel::bvh::wide;
 use crate::bounds::Aabb;
 use crate::geometry::{Primitive, Triangle, TriangleTest};
@@ -123,6 +123,7 @@ impl Bvh {
             bounded: order.len(),
             skipped,
             isa: Isa::default_level(),
+            cache_bytes: machine_cache_bytes(),
         };
         bvh.collapse();
         bvh
@@ -150,6 +151,7 @@ impl Bvh {
             bounded: order.len(),
             skipped: 0,
             isa: Isa::default_level(),
+            cache_bytes: machine_cache_bytes(),
         };
         bvh.collapse();
         (bvh, order)

@@ -239,19 +239,58 @@ fn push_any_order<F: SimdFloat>(
 mod tests {
     use glam::Vec3;
 
-    use crate::accel::TraversalCounter;
-    use crate::accel::{Accel, Bvh};
+    use crate::accel::{Accel, Bvh, TraversalCounter, TraversalStats};
     use crate::packet::RayPacket8;
     use crate::ray::Ray;
     use crate::rng::Rng;
     use crate::scene::generate::random;
     use crate::simd::SimdFloat;
 
-    /// Packets of rays from nearby points in random directions (as ambient
-    /// occlusion and diffuse bounces make), some bounded, some with a lane
-    /// off: every lane's nearest hit and occlusion are the single ray's, bit
-    /// for bit, on meshes, sphere clouds and mixed scenes, and the packets do
-    /// walk shared nodes before they split into single rays.
+    /// A packet of 8 rays from points near one point of `bvh`'s box in random
+    /// directions (as ambient occlusion and diffuse bounces make), some
+    /// bounded, in one packet of four with a lane off; the rays and the mask.
+    fn nearby_rays(rng: &mut Rng, bvh: &Bvh) -> (Vec<Ray>, u32) {
+        let bounds = bvh.bounds();
+        let centre = rng.point_in(bounds.min, bounds.max);
+        let spread = 0.02 * (bounds.max - bounds.min).length();
+        let rays = (0..8)
+            .map(|_| {
+                let origin = centre + rng.point_in(Vec3::splat(-spread), Vec3::splat(spread));
+                let t_max = if rng.below(2) == 0 {
+                    f32::INFINITY
+                } else {
+                    rng.range(0.0, 4.0 * spread)
+                };
+                Ray::new(origin, rng.unit_vector(), 1e-4, t_max)
+            })
+            .collect();
+        (rays, if rng.below(4) == 0 { 0b1011_1111 } else { 0xff })
+    }
+
+    /// Trace `packets` as packets, nearest hit and any hit: every active
+    /// lane's answers are its single ray's, bit for bit. The packets' counts.
+    fn packets_answer_as_single_rays(bvh: &Bvh, packets: &[(Vec<Ray>, u32)]) -> TraversalStats {
+        let mut stats = TraversalCounter::totals();
+        for (rays, active) in packets {
+            let packet = RayPacket8::from_rays_masked(rays, *active);
+            assert!(!packet.is_coherent() && !packet.is_scattered(&bvh.bounds()));
+            let hits = bvh.intersect_packet_counted(&packet, &mut stats);
+            let occluded = bvh.occluded_packet_counted(&packet, &mut stats).bitmask();
+            for (lane, ray) in rays.iter().enumerate().filter(|(l, _)| active >> l & 1 == 1) {
+                assert_eq!(hits.hit(lane), bvh.intersect(ray), "lane {lane} of {rays:?}");
+                assert_eq!(
+                    occluded >> lane & 1 == 1,
+                    bvh.occluded(ray),
+                    "lane {lane} of {rays:?}"
+                );
+            }
+        }
+        *stats.total()
+    }
+
+    /// Packets of nearby rays (`nearby_rays`) on meshes, sphere clouds and
+    /// mixed scenes answer as their single rays, and they do walk shared
+    /// nodes before they split into single rays.
     #[test]
     fn incoherent_packets_answer_as_their_single_rays() {
         let mut rng = Rng::new(11);
@@ -261,37 +300,26 @@ mod tests {
             random::random_mixed(5_000, 5),
         ] {
             let bvh = Bvh::new(&prims);
-            let bounds = bvh.bounds();
-            let mut stats = TraversalCounter::totals();
-            for _ in 0..2_000 {
-                let centre = rng.point_in(bounds.min, bounds.max);
-                let spread = 0.02 * (bounds.max - bounds.min).length();
-                let rays: Vec<Ray> = (0..8)
-                    .map(|_| {
-                        let origin = centre + rng.point_in(Vec3::splat(-spread), Vec3::splat(spread));
-                        let t_max = if rng.below(2) == 0 {
-                            f32::INFINITY
-                        } else {
-                            rng.range(0.0, 4.0 * spread)
-                        };
-                        Ray::new(origin, rng.unit_vector(), 1e-4, t_max)
-                    })
-                    .collect();
-                let active = if rng.below(4) == 0 { 0b1011_1111 } else { 0xff };
-                let packet = RayPacket8::from_rays_masked(&rays, active);
-                let hits = bvh.intersect_packet_counted(&packet, &mut stats);
-                let occluded = bvh.occluded_packet_counted(&packet, &mut stats).bitmask();
-                for (lane, ray) in rays.iter().enumerate().filter(|(l, _)| active >> l & 1 == 1) {
-                    assert_eq!(hits.hit(lane), bvh.intersect(ray), "lane {lane} of {rays:?}");
-                    assert_eq!(
-                        occluded >> lane & 1 == 1,
-                        bvh.occluded(ray),
-                        "lane {lane} of {rays:?}"
-                    );
-                }
-            }
-            let stats = stats.total();
+            let packets: Vec<_> = (0..2_000).map(|_| nearby_rays(&mut rng, &bvh)).collect();
+            let stats = packets_answer_as_single_rays(&bvh, &packets);
             assert!(stats.simd_steps > 0 && stats.fallback_rays > 0, "{stats:?}");
+        }
+    }
+
+    /// The same packets in a tree judged larger than the last-level cache
+    /// (`Bvh::outgrows_cache`) share no step: each lane walks alone from the
+    /// root, and still answers as its single ray; judged to fit, they share.
+    #[test]
+    fn incoherent_packets_in_a_tree_outgrowing_the_cache_walk_apart() {
+        let mut rng = Rng::new(31);
+        let mut bvh = Bvh::new(&random::bumpy_sphere(20_000, 3));
+        let packets: Vec<_> = (0..300).map(|_| nearby_rays(&mut rng, &bvh)).collect();
+        for (cache, apart) in [(0, true), (usize::MAX, false)] {
+            bvh.set_cache_bytes(cache);
+            assert_eq!(bvh.outgrows_cache(), apart);
+            let stats = packets_answer_as_single_rays(&bvh, &packets);
+            assert!(stats.fallback_rays > 0, "{stats:?}");
+            assert_eq!(stats.simd_steps == 0, apart, "{stats:?}");
         }
     }
 }

@@ -23,6 +23,10 @@
 //!   node below the root: its lanes walk the wide tree as single rays,
 //!   interleaved so that their cache misses overlap
 //!   ([`traverse_interleaved`](crate::accel::bvh::traverse_single::traverse_interleaved)).
+//!   So do the lanes of every other incoherent packet in a tree larger than
+//!   the machine's last-level cache ([`Bvh::outgrows_cache`]): there a walk
+//!   waits on memory at most steps, and the overlap of eight walks' misses
+//!   gains more than the shared node tests of the hybrid walk save.
 //!
 //! One loop serves nearest-hit and any-hit queries ([`PacketQuery`]).
 
@@ -100,16 +104,22 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
         // Incoherent rays part ways too soon for the binary tree, and other
         // any-hit rays, which need no order, meet fewer nodes in the wide one. Rays
         // from all over the scene share nothing below the root: they walk it
-        // as single rays, interleaved where the tree is large. Else the
-        // hybrid traversal shares what the lanes do share.
-        let walk = if !rays.is_scattered(&bvh.bounds()) {
+        // as single rays, interleaved where the tree is large. So do the
+        // lanes of secondary rays in a tree larger than the last-level cache,
+        // where a shared node test saves less than the overlap of the lanes'
+        // misses gains. Else the hybrid traversal shares what the lanes do share.
+        let walk = if rays.is_scattered(&bvh.bounds()) {
+            if bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES {
+                LaneWalk::ApartInterleaved
+            } else {
+                LaneWalk::Apart
+            }
+        } else if !world_shadow && bvh.outgrows_cache() {
+            LaneWalk::ApartInterleaved
+        } else {
             LaneWalk::Shared {
                 single_ray_lanes: if world_shadow { 0 } else { SINGLE_RAY_LANES },
             }
-        } else if bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES {
-            LaneWalk::ApartInterleaved
-        } else {
-            LaneWalk::Apart
         };
         traverse_hybrid(bvh, &slab, mask, walk, query, stats);
         return;
