@@ -124,6 +124,7 @@ impl Bvh {
             skipped,
             isa: Isa::default_level(),
             cache_bytes: machine_cache_bytes(),
+            walked_bytes: 0,
         };
         bvh.collapse();
         bvh
@@ -152,19 +153,22 @@ impl Bvh {
             skipped: 0,
             isa: Isa::default_level(),
             cache_bytes: machine_cache_bytes(),
+            walked_bytes: 0,
         };
         bvh.collapse();
         (bvh, order)
     }
 
     /// Collapse the binary tree into the single rays' and the packets' wide
-    /// trees, the two at once (each walks the binary tree on one thread).
+    /// trees, the two at once (each walks the binary tree on one thread),
+    /// and sum the bytes single rays walk ([`Bvh::walked_bytes`]).
     fn collapse(&mut self) {
         let empty = self.is_empty();
         (self.ray_tree, self.packet_tree) = rayon::join(
             || wide::collapse(&self.pairs, empty),
             || wide::collapse(&self.pairs, empty),
         );
+        self.walked_bytes = size_of_val(self.ray_tree.as_slice()) + self.leaves.bytes();
     }
 }
 

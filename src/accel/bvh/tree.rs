@@ -78,6 +78,9 @@ pub struct Bvh {
     pub(super) isa: Isa,
     /// Bytes of cache the walks may count on ([`Bvh::outgrows_cache`]).
     pub(super) cache_bytes: usize,
+    /// [`Bvh::walked_bytes`], summed once the wide trees are built: packet
+    /// queries ask for it to choose their walk.
+    pub(super) walked_bytes: usize,
 }
 
 /// The last-level cache assumed where the kernel shows no L3 (or no cache
@@ -120,7 +123,7 @@ impl Bvh {
     /// Bytes of what single rays read: the 16-wide nodes and the leaves.
     #[inline(always)]
     pub fn walked_bytes(&self) -> usize {
-        size_of_val(self.ray_tree.as_slice()) + self.leaves.bytes()
+        self.walked_bytes
     }
 
     /// Whether what single rays read ([`Bvh::walked_bytes`]) is more than the
@@ -129,7 +132,7 @@ impl Bvh {
     /// interleaved (see `traverse_packet`).
     #[inline(always)]
     pub fn outgrows_cache(&self) -> bool {
-        self.walked_bytes() > self.cache_bytes
+        self.walked_bytes > self.cache_bytes
     }
 
     /// Judge [`Bvh::outgrows_cache`] as on a machine whose last-level cache
