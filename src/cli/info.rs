@@ -1,5 +1,7 @@
-//! `raypack info SCENE [--json]`: what a scene file holds — primitive counts by
-//! kind, bounds, camera, lights, materials — and how long it took to load.
+//! `raypack info SCENE [--bvh] [--json]`: what a scene file holds — primitive
+//! counts by kind, bounds, camera, lights, materials — and how long it took to
+//! load; with `--bvh`, the BVH raypack builds for it (each level of an
+//! instanced scene's): its shape, memory, and the walks its size chooses.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -7,6 +9,9 @@ use std::time::Instant;
 
 use glam::Vec3;
 
+use crate::accel::Bvh;
+use crate::accel::bvh::BvhInfo;
+use crate::accel::two_level::TwoLevel;
 use crate::cli::args::load_scene;
 use crate::cli::error::CliResult;
 use crate::geometry::PrimitiveKind;
@@ -17,6 +22,11 @@ use crate::scene::{CameraSpec, InstancingSummary, Light, Material, Scene};
 pub struct Args {
     /// Scene file (.nff, .obj, .ply, .ply.gz, .toml), or `gen:NAME[:N[:SEED]]` for a generated scene.
     pub scene: PathBuf,
+    /// Also build raypack's BVH for the scene, as `render` and `bench` build
+    /// it, and describe it: nodes, leaves, depth, SAH cost, memory, and how
+    /// incoherent and scattered packets walk a tree of its size.
+    #[arg(long)]
+    pub bvh: bool,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -47,6 +57,81 @@ struct Report<'a> {
     background: Vec3,
     lights: &'a [Light],
     materials: &'a [Material],
+    /// raypack's BVH for the scene (`--bvh`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bvh: Option<Structure>,
+}
+
+/// raypack's structure for a scene: one BVH, or the levels of a two-level one.
+#[derive(serde::Serialize)]
+struct Structure {
+    /// Time to build it all.
+    build_seconds: f64,
+    /// The last-level cache the walks are chosen against ([`Bvh::cache_bytes`]).
+    cache_bytes: usize,
+    /// `scene` (a flat scene's one tree), or `own` (an instanced scene's own
+    /// primitives), `top` (the tree over its instances) and `mesh N`.
+    levels: Vec<Level>,
+}
+
+/// One BVH of a [`Structure`].
+#[derive(serde::Serialize)]
+struct Level {
+    /// `scene`, `own`, `top` or `mesh N` (see [`Structure::levels`]).
+    name: String,
+    #[serde(flatten)]
+    info: BvhInfo,
+    /// What single rays read: the 16-wide nodes and the leaves ([`Bvh::walked_bytes`]).
+    walked_bytes: usize,
+    /// How the lanes of incoherent packets set out: `shared` (the hybrid walk),
+    /// or `apart` where the tree outgrows the cache ([`Bvh::outgrows_cache`]).
+    incoherent_packets: &'static str,
+    /// How the lanes of scattered packets walk: `one after another`, or
+    /// `interleaved` in a large tree ([`Bvh::interleaves_scattered`]).
+    scattered_packets: &'static str,
+}
+
+impl Level {
+    fn of(name: String, bvh: &Bvh) -> Self {
+        Self {
+            name,
+            info: bvh.info(),
+            walked_bytes: bvh.walked_bytes(),
+            incoherent_packets: if bvh.outgrows_cache() { "apart" } else { "shared" },
+            scattered_packets: if bvh.interleaves_scattered() {
+                "interleaved"
+            } else {
+                "one after another"
+            },
+        }
+    }
+}
+
+/// Build raypack's BVH for `scene` as the engines do (a two-level one for an
+/// instanced scene) and describe it.
+fn structure(scene: &Scene) -> Structure {
+    let start = Instant::now();
+    if scene.instances.is_empty() {
+        let bvh = Bvh::new(&scene.primitives);
+        return Structure {
+            build_seconds: start.elapsed().as_secs_f64(),
+            cache_bytes: bvh.cache_bytes(),
+            levels: vec![Level::of("scene".into(), &bvh)],
+        };
+    }
+    let two_level = TwoLevel::new(scene, Bvh::new);
+    let build_seconds = start.elapsed().as_secs_f64();
+    let meshes = two_level.meshes().iter().enumerate();
+    let levels = [("own", two_level.own()), ("top", two_level.top())]
+        .into_iter()
+        .map(|(name, bvh)| Level::of(name.into(), bvh))
+        .chain(meshes.map(|(i, mesh)| Level::of(format!("mesh {i}"), mesh)))
+        .collect();
+    Structure {
+        build_seconds,
+        cache_bytes: two_level.top().cache_bytes(),
+        levels,
+    }
 }
 
 /// An axis-aligned box as `{ "min": [x, y, z], "max": [x, y, z] }`.
@@ -61,7 +146,8 @@ pub fn run(args: Args) -> CliResult {
     let start = Instant::now();
     let (scene, _) = load_scene(&args.scene)?;
     let load_seconds = start.elapsed().as_secs_f64();
-    let report = report(&scene, load_seconds);
+    let mut report = report(&scene, load_seconds);
+    report.bvh = args.bvh.then(|| structure(&scene));
     let out = if args.json {
         serde_json::to_string_pretty(&report).map_err(anyhow::Error::from)? + "\n"
     } else {
@@ -88,6 +174,7 @@ fn report(scene: &Scene, load_seconds: f64) -> Report<'_> {
         background: scene.background,
         lights: &scene.lights,
         materials: &scene.materials,
+        bvh: None,
     }
 }
 
@@ -179,6 +266,37 @@ fn text(r: &Report) -> String {
             m.shine,
             m.transmittance,
             m.ior
+        )
+    });
+    if let Some(s) = &r.bvh {
+        out += &structure_text(s);
+    }
+    out
+}
+
+/// The `--bvh` lines: the build, then a line per level (past [`LISTED`]
+/// levels, "… and N more").
+fn structure_text(s: &Structure) -> String {
+    let mut out = format!(
+        "bvh         built in {:.3} ms; last-level cache {:.1} MiB\n",
+        1e3 * s.build_seconds,
+        s.cache_bytes as f64 / f64::from(1 << 20)
+    );
+    out += &listed(&s.levels, |_, level| {
+        let i = &level.info;
+        format!(
+            "  {:<9} {} primitives, {} leaves (≤ {} each), {} nodes, depth {}, SAH {:.1}; {}, {} walked by single rays; incoherent packets: {}, scattered packets: {}",
+            level.name,
+            i.primitives,
+            i.leaves,
+            i.max_leaf_size,
+            i.nodes,
+            i.max_depth,
+            i.sah_cost,
+            megabytes(i.bytes as u64),
+            megabytes(level.walked_bytes as u64),
+            level.incoherent_packets,
+            level.scattered_packets
         )
     });
     out

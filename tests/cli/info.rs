@@ -1,6 +1,6 @@
-//! `raypack info`: works on every scene (text and JSON), and exits 2 with
-//! `file:line: message` and nothing on stdout for a bad one; `raypack env`
-//! describes the machine and the build.
+//! `raypack info`: works on every scene (text and JSON), describes its BVH
+//! (`--bvh`), and exits 2 with `file:line: message` and nothing on stdout
+//! for a bad one; `raypack env` describes the machine and the build.
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
@@ -88,6 +88,73 @@ fn info_takes_generated_scenes() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(expected), "{spec}: {err}");
         assert!(out.stdout.is_empty());
+    }
+}
+
+/// `info --bvh` builds raypack's BVH as the engines do and describes each
+/// level (a flat scene's one tree; an instanced scene's own, top and mesh
+/// trees): every primitive of the scene is in one level's tree once (the top
+/// tree holds the instances), each binary tree has one node fewer than twice
+/// its leaves, what single rays walk is part of the whole, and trees this
+/// small stay in the cache (shared packet walks, scattered lanes one after
+/// another). The text names the same figures.
+#[test]
+fn info_bvh_describes_each_level_of_the_tree() {
+    for spec in ["gen:mesh:3000", "gen:spheres:123:4", "gen:city:10"] {
+        let out = info(&[spec.as_ref(), "--bvh".as_ref(), "--json".as_ref()]);
+        assert!(
+            out.status.success(),
+            "{spec}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+        let bvh = &json["bvh"];
+        assert!(bvh["build_seconds"].as_f64().unwrap() >= 0.0, "{spec}: {bvh}");
+        let cache = bvh["cache_bytes"].as_u64().unwrap();
+        let levels = bvh["levels"].as_array().unwrap();
+        let figure = |level: &serde_json::Value, key: &str| level[key].as_u64().unwrap();
+        let mut held = 0;
+        for level in levels {
+            let (leaves, nodes) = (figure(level, "leaves"), figure(level, "nodes"));
+            assert!(leaves >= 1 && nodes == 2 * leaves - 1, "{spec}: {level}");
+            let (bytes, walked) = (figure(level, "bytes"), figure(level, "walked_bytes"));
+            assert!(0 < walked && walked < bytes && walked < cache, "{spec}: {level}");
+            assert_eq!(level["incoherent_packets"], "shared", "{spec}: {level}");
+            assert_eq!(level["scattered_packets"], "one after another", "{spec}: {level}");
+            let in_tree = figure(level, "primitives");
+            if level["name"] == "top" {
+                assert_eq!(
+                    in_tree,
+                    json["instancing"]["instances"].as_u64().unwrap(),
+                    "{spec}"
+                );
+            } else {
+                held += in_tree + figure(level, "unbounded") + figure(level, "skipped");
+            }
+        }
+        match json["instancing"]["unique_primitives"].as_u64() {
+            Some(unique) => {
+                let meshes = json["instancing"]["meshes"].as_u64().unwrap() as usize;
+                assert_eq!(levels.len(), 2 + meshes, "{spec}: own, top and the meshes");
+                assert_eq!(held, unique, "{spec}");
+            }
+            None => {
+                assert_eq!(levels.len(), 1, "{spec}");
+                assert_eq!(held, json["primitives"].as_u64().unwrap(), "{spec}");
+            }
+        }
+        let out = info(&[spec.as_ref(), "--bvh".as_ref()]);
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.contains("\nbvh         built in "), "{text}");
+        for level in levels {
+            let line = format!(
+                "  {:<9} {} primitives, {} leaves",
+                level["name"].as_str().unwrap(),
+                level["primitives"],
+                level["leaves"]
+            );
+            assert!(text.contains(&line), "{line} in {text}");
+        }
     }
 }
 

@@ -60,14 +60,6 @@ pub fn majority_negative<F: SimdFloat>(rays: &RayPacket<F>) -> u32 {
     bits
 }
 
-/// Scattered packets in trees smaller than this (wide nodes and leaves,
-/// [`Bvh::walked_bytes`]) walk their lanes one after the other rather than
-/// interleaved: interleaved walks hide cache misses, and a tree this small
-/// mostly stays in the caches (a few times a core's L2), so only their
-/// set-up would count: interleaved walks lose to single rays on small scenes
-/// and win on large ones (figures: `docs/measurements.md`, "Constants").
-pub const INTERLEAVE_MIN_BYTES: usize = 4 << 20;
-
 /// Coherent any-hit packets in the world's tree walk the binary tree of
 /// fewer primitives than this, and the wide tree without single-ray
 /// fallback of more: the binary walk's extra node visits cost more than its
@@ -109,7 +101,7 @@ pub fn traverse_packet<F: SimdFloat, Q: PacketQuery<F>, S: Counter>(
         // where a shared node test saves less than the overlap of the lanes'
         // misses gains. Else the hybrid traversal shares what the lanes do share.
         let walk = if rays.is_scattered(&bvh.bounds()) {
-            if bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES {
+            if bvh.interleaves_scattered() {
                 LaneWalk::ApartInterleaved
             } else {
                 LaneWalk::Apart
@@ -382,7 +374,7 @@ mod tests {
             random::bumpy_sphere(2_000, 6),
         ] {
             let bvh = Bvh::new(&prims);
-            let large = bvh.walked_bytes() >= INTERLEAVE_MIN_BYTES;
+            let large = bvh.interleaves_scattered();
             assert_eq!(large, prims.len() > 2_000, "{} bytes", bvh.walked_bytes());
             let bounds = bvh.bounds();
             // Origins off the box's faces: a ray from a face out of the box

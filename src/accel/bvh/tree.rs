@@ -83,6 +83,14 @@ pub struct Bvh {
     pub(super) walked_bytes: usize,
 }
 
+/// Scattered packets in trees smaller than this (wide nodes and leaves,
+/// [`Bvh::walked_bytes`]) walk their lanes one after the other rather than
+/// interleaved: interleaved walks hide cache misses, and a tree this small
+/// mostly stays in the caches (a few times a core's L2), so only their
+/// set-up would count: interleaved walks lose to single rays on small scenes
+/// and win on large ones (figures: `docs/measurements.md`, "Constants").
+pub const INTERLEAVE_MIN_BYTES: usize = 4 << 20;
+
 /// The last-level cache assumed where the kernel shows no L3 (or no cache
 /// at all): the 32 MiB L3 of the AMD EPYC machines measured (Zen 3, 4 and 5).
 pub const ASSUMED_CACHE_BYTES: usize = 32 << 20;
@@ -133,6 +141,20 @@ impl Bvh {
     #[inline(always)]
     pub fn outgrows_cache(&self) -> bool {
         self.walked_bytes > self.cache_bytes
+    }
+
+    /// The bytes of last-level cache [`Bvh::outgrows_cache`] counts on: the
+    /// machine's when built, or [`Bvh::set_cache_bytes`]'.
+    pub fn cache_bytes(&self) -> usize {
+        self.cache_bytes
+    }
+
+    /// Whether the lanes of scattered packets (rays from all over the scene)
+    /// walk interleaved, which hides cache misses, rather than one after the
+    /// other: trees of at least [`INTERLEAVE_MIN_BYTES`] walked.
+    #[inline(always)]
+    pub fn interleaves_scattered(&self) -> bool {
+        self.walked_bytes >= INTERLEAVE_MIN_BYTES
     }
 
     /// Judge [`Bvh::outgrows_cache`] as on a machine whose last-level cache
