@@ -44,8 +44,8 @@ The ratios need Embree: a raypack built without the `embree` feature refuses the
 (exit code 2) rather than print a table of raypack alone; `bench traversal` measures raypack \
 by itself.
 
-With the defaults, the whole matrix takes tens of minutes on two cores, most of it on the \
-10^6 and 10^7 meshes. `raypack report` draws the JSON result as one table.")]
+With the defaults, the whole matrix takes minutes on two cores (about 4 on an AMD EPYC Zen 4), \
+most of it on the 10^6 and 10^7 meshes. `raypack report` draws the JSON result as one table.")]
 pub struct MatrixArgs {
     /// Scenes, comma-separated: `gen:NAME[:N[:SEED]]` (as every SCENE),
     /// `mesh:N` (the bumpy-sphere mesh of about N triangles of `bench
