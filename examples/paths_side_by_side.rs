@@ -1,8 +1,9 @@
 //! Every traversal path of both engines on one ray kind, interleaved round by
 //! round in one process (so drift of a shared machine hits them alike): raypack's
 //! single rays, 8-ray and 16-ray packets, and Embree's `rtc*1`, `rtc*8` and
-//! `rtc*16` at `isa=avx2` and at its default ISA; medians in Mrays/s. `bench
-//! traversal` times single rays and 8-ray packets only.
+//! `rtc*16` at `isa=avx2` and at its default ISA; medians in Mrays/s, on a
+//! framing camera's rays (`bench traversal` times the same paths, with
+//! intervals and ratios, on a scene's own camera).
 //!
 //! ```text
 //! cargo run --release --features embree --example paths_side_by_side -- [--rounds 7] [--size 1024] [--threads 1] [--cold-warm] SCENE KIND
@@ -24,12 +25,12 @@ use clap::Parser;
 use raypack::accel::Accel;
 use raypack::bench::rays::{KindRays, RayKind};
 use raypack::bench::traversal::{
-    Builder, EngineVariant, TraversalSetup, scene_bounds, trace_batch, trace_packets, trace_packets16,
-    trace_single,
+    Builder, EngineVariant, PATHS, TraversalSetup, path_name, scene_bounds, trace_batch, trace_path,
 };
 use raypack::embree_settings::EmbreeIsa;
 use raypack::engines::{Engine, WithAccel};
 use raypack::render::batch::BATCH;
+use raypack::render::settings::KernelKind;
 use raypack::scene::generate::random::framing_camera;
 
 // The arrays a traversal reads go on huge pages, as in `raypack` and the benches.
@@ -59,24 +60,17 @@ struct Args {
     cold_warm: bool,
 }
 
-/// The three paths each engine is timed on.
-const PATHS: [&str; 3] = ["single", "packet8", "packet16"];
-
-/// Trace a kind's rays on path `path` (an index into [`PATHS`]).
+/// Trace a kind's rays by `path`, one of [`PATHS`].
 struct Path<'r> {
     set: &'r KindRays,
-    path: usize,
+    path: KernelKind,
 }
 
 impl WithAccel<'_> for Path<'_> {
     type Output = u64;
 
     fn run<A: Accel>(self, accel: &A) -> u64 {
-        match self.path {
-            0 => trace_single(accel, self.set),
-            1 => trace_packets(accel, self.set),
-            _ => trace_packets16(accel, self.set),
-        }
+        trace_path(accel, self.set, self.path)
     }
 }
 
@@ -172,7 +166,8 @@ fn run(args: &Args) -> anyhow::Result<()> {
         for i in order {
             let (s, p) = cases[i];
             let start = Instant::now();
-            std::hint::black_box(pool.install(|| structures[s].visit(Path { set, path: p })));
+            let path = PATHS[p];
+            std::hint::black_box(pool.install(|| structures[s].visit(Path { set, path })));
             if round > 0 {
                 samples[i].push(set.rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6);
             }
@@ -180,7 +175,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
     }
     for ((s, p), mut mrays) in cases.into_iter().zip(samples) {
         mrays.sort_by(f64::total_cmp);
-        let name = format!("{} {}", variants[s].name(), PATHS[p]);
+        let name = format!("{} {}", variants[s].name(), path_name(PATHS[p]));
         println!("{name:26} {:7.2} Mrays/s", mrays[mrays.len() / 2]);
     }
     Ok(())

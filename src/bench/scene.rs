@@ -19,7 +19,7 @@ use crate::accel::stats::NoStats;
 use crate::bench::pinned_pool::pinned_pool;
 use crate::bench::rays::KindRays;
 use crate::bench::timing_hooks::TimingHooks;
-use crate::bench::traversal::{trace_packets, trace_packets16, trace_single};
+use crate::bench::traversal::trace_path;
 use crate::camera::Camera;
 use crate::engines::Engine;
 use crate::render::kernel::TraceKernel;
@@ -178,13 +178,9 @@ pub fn units<'a, A: Accel>(
                 Rays::Primary(frame) => {
                     Box::new(move |pool| frame.trace(accel, variant.kernel, variant.block, pool))
                 }
-                Rays::OfKind(set) => Box::new(move |pool| {
-                    pool.install(|| match variant.kernel {
-                        KernelKind::Scalar => trace_single(accel, set),
-                        KernelKind::Packet8 => trace_packets(accel, set),
-                        KernelKind::Packet16 => trace_packets16(accel, set),
-                    })
-                }),
+                Rays::OfKind(set) => {
+                    Box::new(move |pool| pool.install(|| trace_path(accel, set, variant.kernel)))
+                }
             };
             Unit {
                 variant,

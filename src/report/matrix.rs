@@ -72,7 +72,7 @@ pub fn table(input: &Input) -> String {
     let _ = write!(
         out,
         "<p>raypack ÷ Embree on {} (kernels {}): per scene and thread count, each ray kind's \
-         fastest raypack path (single rays or 8-ray packets) over Embree's fastest path and \
+         fastest raypack path (single rays, 8- or 16-ray packets) over Embree's fastest path and \
          setting, in Mrays/s of the same rays, round by round: median [95% interval]; build: \
          raypack's build time over Embree's faster setting's. Marked ✗: a cell below \
          {PASS:.2}× whose interval does not reach {PASS_WITHIN_INTERVAL:.2}×, a build above 1.00×.</p>\n\

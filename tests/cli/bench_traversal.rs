@@ -28,14 +28,19 @@ fn traversal_bench_reports_json_rows_of_every_ray_kind() {
             assert_eq!(k["query"], if any_hit { "any-hit" } else { "nearest" }, "{kind}");
             let rays = k["rays"].as_u64().unwrap();
             assert!(rays > 0 && k["hits"].as_u64().unwrap() <= rays, "{kind}");
-            for key in ["single_mrays", "packet_mrays", "packet_vs_single"] {
-                assert!(k[key]["median"].as_f64().unwrap() > 0.0, "{kind} {key}");
-                assert_eq!(k[key]["samples"].as_u64(), Some(1), "{kind} {key}");
+            let paths = k["paths"].as_array().unwrap();
+            let names: Vec<&str> = paths.iter().map(|p| p["path"].as_str().unwrap()).collect();
+            assert_eq!(names, ["single", "packet8", "packet16"], "{kind}");
+            for p in paths {
+                for key in ["mrays", "vs_single"] {
+                    assert!(p[key]["median"].as_f64().unwrap() > 0.0, "{kind} {p}");
+                    assert_eq!(p[key]["samples"].as_u64(), Some(1), "{kind} {p}");
+                }
+                // Every ray of the kind is counted once by each pass.
+                assert_eq!(p["stats"]["rays"].as_u64(), Some(rays), "{kind} {p}");
             }
-            // Every ray of the kind is counted once by either pass.
-            for key in ["single_stats", "packet_stats"] {
-                assert_eq!(k[key]["rays"].as_u64(), Some(rays), "{kind} {key}");
-            }
+            // Single rays against themselves: exactly 1.
+            assert_eq!(paths[0]["vs_single"]["median"].as_f64(), Some(1.0), "{kind}");
         }
         // Secondary rays start at primary hits: no more of them than primary rays that hit.
         let primary_hits = row["kinds"][0]["hits"].as_u64().unwrap();
@@ -53,14 +58,14 @@ fn traversal_bench_reports_json_rows_of_every_ray_kind() {
         rows[1]["kinds"].as_array().unwrap(),
     );
     for (a, b) in first.iter().zip(second) {
-        for (v, mrays) in ["single_mrays", "packet_mrays"].iter().enumerate() {
-            assert_eq!(a["growth_vs_first"][v]["median"].as_f64(), Some(1.0));
-            let from_rates = a[mrays]["median"].as_f64().unwrap() / b[mrays]["median"].as_f64().unwrap();
-            let g = b["growth_vs_first"][v]["median"].as_f64().unwrap();
+        let (a, b) = (a["paths"].as_array().unwrap(), b["paths"].as_array().unwrap());
+        for (a, b) in a.iter().zip(b) {
+            assert_eq!(a["growth_vs_first"]["median"].as_f64(), Some(1.0));
+            let from_rates = a["mrays"]["median"].as_f64().unwrap() / b["mrays"]["median"].as_f64().unwrap();
+            let g = b["growth_vs_first"]["median"].as_f64().unwrap();
             assert!(
                 (g / from_rates - 1.0).abs() < 1e-9,
-                "{} {mrays}: {g} vs {from_rates}",
-                a["kind"]
+                "{a} {b}: {g} vs {from_rates}"
             );
         }
     }
@@ -77,7 +82,7 @@ fn traversal_bench_measures_the_ray_kinds_asked_for() {
             assert_eq!(kinds.len(), 1);
             assert_eq!(kinds[0]["kind"], kind);
             assert!(
-                kinds[0]["single_mrays"]["median"].as_f64().unwrap() > 0.0,
+                kinds[0]["paths"][0]["mrays"]["median"].as_f64().unwrap() > 0.0,
                 "{kind}"
             );
         }
@@ -167,16 +172,16 @@ fn instructions_per_ray_are_counted_under_callgrind_or_said_to_be_na() {
         .iter()
         .flat_map(|r| r["kinds"].as_array().unwrap());
     for k in kinds {
-        let per_ray = &k["instructions_per_ray"];
-        if !has_valgrind {
-            assert!(per_ray.is_null(), "{k}");
-            continue;
-        }
-        // Both paths of raypack traced and counted: a ray costs tens to
-        // thousands of instructions on a mesh of a few hundred triangles.
-        for path in 0..2 {
-            let n = per_ray[path].as_f64().unwrap();
-            assert!((20.0..20_000.0).contains(&n), "{} path {path}: {n}", k["kind"]);
+        for p in k["paths"].as_array().unwrap() {
+            let per_ray = &p["instructions_per_ray"];
+            if !has_valgrind {
+                assert!(per_ray.is_null(), "{k}");
+                continue;
+            }
+            // Every path of raypack traced and counted: a ray costs tens to
+            // thousands of instructions on a mesh of a few hundred triangles.
+            let n = per_ray.as_f64().unwrap();
+            assert!((20.0..20_000.0).contains(&n), "{} {}: {n}", k["kind"], p["path"]);
         }
     }
     if !has_valgrind {

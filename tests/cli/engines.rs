@@ -152,8 +152,10 @@ fn bench_traversal_measures_every_engine_it_can_and_says_what_it_left_out() {
             assert!(err.contains(&format!("n/a: {engine} has no any-hit")), "{err}");
         }
         for k in row["kinds"].as_array().unwrap() {
-            assert!(k["single_mrays"]["median"].as_f64().unwrap() > 0.0, "{row}");
-            assert!(k["packet_mrays"].is_null(), "{row}");
+            let paths = k["paths"].as_array().unwrap();
+            assert_eq!(paths.len(), 1, "single rays only: {row}");
+            assert_eq!(paths[0]["path"], "single", "{row}");
+            assert!(paths[0]["mrays"]["median"].as_f64().unwrap() > 0.0, "{row}");
         }
         // Kind by kind, the peer hits what raypack hits.
         let ours: Vec<(&str, u64)> = kinds_hits(&rows[0]);

@@ -334,10 +334,14 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
         let counted = row["engine"] == "raypack";
         assert_eq!(!row["sah_cost"].is_null(), counted, "{row}");
         for k in row["kinds"].as_array().unwrap() {
-            assert!(k["packet_mrays"]["median"].as_f64().unwrap() > 0.0);
-            // raypack's rows carry their speed over Embree's, from the same rounds.
-            assert_eq!(k["vs_embree"][1]["median"].is_f64(), counted, "{row}");
-            assert_eq!(!k["packet_stats"].is_null(), counted, "{row}");
+            let paths = k["paths"].as_array().unwrap();
+            assert_eq!(paths.len(), 3, "{row}");
+            for p in paths {
+                assert!(p["mrays"]["median"].as_f64().unwrap() > 0.0);
+                // raypack's rows carry their speed over Embree's, from the same rounds.
+                assert_eq!(p["vs_embree"]["median"].is_f64(), counted, "{row}");
+                assert_eq!(!p["stats"].is_null(), counted, "{row}");
+            }
         }
     }
     // Both engines trace the same rays of every kind.
@@ -354,11 +358,13 @@ fn bench_traversal_measures_both_engines_with_their_own_growth() {
     }
     // Each engine's growth is measured from its own first scene.
     let random = |row: usize| &rows[row]["kinds"][4];
-    assert_eq!(rows[0]["kinds"][0]["growth_vs_first"][0]["median"], 1.0);
-    assert_eq!(rows[1]["kinds"][0]["growth_vs_first"][0]["median"], 1.0);
-    let single = |row: usize| random(row)["single_mrays"]["median"].as_f64().unwrap();
+    assert_eq!(rows[0]["kinds"][0]["paths"][0]["growth_vs_first"]["median"], 1.0);
+    assert_eq!(rows[1]["kinds"][0]["paths"][0]["growth_vs_first"]["median"], 1.0);
+    let single = |row: usize| random(row)["paths"][0]["mrays"]["median"].as_f64().unwrap();
     let embree_from_rates = single(1) / single(3);
-    let g = random(3)["growth_vs_first"][0]["median"].as_f64().unwrap();
+    let g = random(3)["paths"][0]["growth_vs_first"]["median"]
+        .as_f64()
+        .unwrap();
     assert!(
         (g / embree_from_rates - 1.0).abs() < 1e-9,
         "{g} vs {embree_from_rates}"

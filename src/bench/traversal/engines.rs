@@ -4,9 +4,10 @@
 
 use crate::bench::pinned_pool::pinned_pool;
 use crate::bench::rays::KindRays;
-use crate::bench::traversal::trace::{trace_packets, trace_single};
+use crate::bench::traversal::trace::trace_path;
 use crate::embree_settings::EmbreeIsa;
 use crate::engines::{Built, Engine, EngineDevice, EngineOptions, WithAccel};
+use crate::render::settings::KernelKind;
 use crate::scene::Scene;
 
 /// An engine as measured: Embree with the kernels of one ISA setting.
@@ -40,23 +41,19 @@ impl EngineVariant {
     }
 }
 
-/// Trace a kind's rays one by one ([`trace_single`]) or in packets ([`trace_packets`]).
+/// Trace a kind's rays by one path ([`trace_path`]): one by one, or in packets.
 pub(super) struct TraceKind<'r> {
     /// The rays.
     pub set: &'r KindRays,
-    /// Packets rather than single rays.
-    pub packets: bool,
+    /// Single rays, 8- or 16-ray packets.
+    pub path: KernelKind,
 }
 
 impl WithAccel<'_> for TraceKind<'_> {
     type Output = u64;
 
     fn run<A: crate::accel::Accel>(self, accel: &A) -> u64 {
-        if self.packets {
-            trace_packets(accel, self.set)
-        } else {
-            trace_single(accel, self.set)
-        }
+        trace_path(accel, self.set, self.path)
     }
 }
 

@@ -12,11 +12,9 @@ use crate::bench::rays::{Query, RayKind};
 use crate::bench::traversal::engines::{Builder, EngineVariant, TraceKind, engine_variants, pool};
 use crate::bench::traversal::rows::TraversalRow;
 use crate::bench::traversal::setup::TraversalSetup;
+use crate::bench::traversal::trace::{PATHS, path_name};
 use crate::embree_settings::EmbreeIsa;
 use crate::engines::Engine;
-
-/// The paths a ray set is traced by: single rays, then 8-ray packets.
-const PATHS: [&str; 2] = ["single", "packet8"];
 
 /// The name of the dump of scene `setup`'s `kind` rays through `variant` by `path`.
 fn label(setup: usize, variant: EngineVariant, kind: RayKind, path: &str) -> String {
@@ -25,7 +23,7 @@ fn label(setup: usize, variant: EngineVariant, kind: RayKind, path: &str) -> Str
 
 /// In the run under callgrind: trace every ray set of `setups` once through
 /// each engine of `engines` (Embree at each of `embree_isas`) that takes it,
-/// single rays and, where the engine has them, packets, on one thread, each
+/// by each of [`PATHS`] the engine has, on one thread, each
 /// between [`callgrind::zero_stats`] and a [`callgrind::dump_stats_at`] named
 /// for it. Builds and ray making are not counted.
 pub fn count_instructions(
@@ -47,16 +45,14 @@ pub fn count_instructions(
                 if set.kind.query() == Query::AnyHit && engine.finds_any_hit().is_err() {
                     continue;
                 }
-                let traced = [true, engine.traces_lanes(8).is_ok()];
-                for (path, packets) in PATHS
+                for path in PATHS
                     .into_iter()
-                    .zip([false, true])
-                    .filter(|&(_, p)| traced[p as usize])
+                    .filter(|p| engine.traces_lanes(p.lanes()).is_ok())
                 {
                     pool.install(|| {
                         callgrind::zero_stats();
-                        black_box(built.visit(TraceKind { set, packets }));
-                        callgrind::dump_stats_at(&label(s, variant, set.kind, path));
+                        black_box(built.visit(TraceKind { set, path }));
+                        callgrind::dump_stats_at(&label(s, variant, set.kind, path_name(path)));
                     });
                 }
             }
@@ -75,8 +71,10 @@ pub fn instructions_per_ray(rows: &mut [TraversalRow], setups: &[TraversalSetup]
         };
         let variant = row.variant();
         for k in &mut row.kinds {
-            let per_ray = |path| callgrind::per_ray(counts, &label(s, variant, k.kind, path), k.rays as u64);
-            k.instructions_per_ray = Some(PATHS.map(per_ray));
+            let (kind, rays) = (k.kind, k.rays as u64);
+            for p in &mut k.paths {
+                p.instructions_per_ray = callgrind::per_ray(counts, &label(s, variant, kind, p.path), rays);
+            }
         }
     }
 }

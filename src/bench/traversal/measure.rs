@@ -10,8 +10,10 @@ use crate::bench::traversal::engines::{Builder, EngineVariant, TraceKind, engine
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
 use crate::bench::traversal::rows::{TraversalRow, rows};
 use crate::bench::traversal::setup::TraversalSetup;
+use crate::bench::traversal::trace::{PATHS, path_name};
 use crate::embree_settings::EmbreeIsa;
 use crate::engines::{Built, Engine};
+use crate::render::settings::KernelKind;
 
 /// Timed builds of every structure per thread count, after an untimed round.
 const BUILD_ROUNDS: usize = 3;
@@ -50,8 +52,8 @@ fn round_order(round: usize, n: usize) -> Vec<usize> {
 ///   structure on every thread count (a fresh [`Builder`] per count, since
 ///   Embree's thread limit is process-wide), then an untimed build at the
 ///   most threads, whose structures are traced;
-/// - traversal: single rays and packets of every ray set of every scene and
-///   engine on every thread count, `rounds` rounds after a warm-up round, all
+/// - traversal: single rays, 8- and 16-ray packets of every ray set of every
+///   scene and engine on every thread count, `rounds` rounds after a warm-up round, all
 ///   on the structures of the last build.
 ///
 /// Each round goes through thread counts, scenes, engines, kinds and
@@ -237,37 +239,36 @@ fn trace_rounds(
     }
 }
 
-/// Trace every ray set of `on_scene` once on the current pool, single rays
-/// then packets, times passing through `hooks`: round 0 counts the hits of
-/// single rays, later rounds keep each time per ray in `timing`.
+/// Trace every ray set of `on_scene` once on the current pool by each of
+/// [`PATHS`] the engine has, times passing through `hooks`: round 0 counts
+/// the hits of single rays, later rounds keep each time per ray in `timing`.
 fn trace_each_kind(
     on_scene: &mut EngineOnScene<'_>,
     timing: &mut Timings,
     round: usize,
     hooks: &TimingHooks,
 ) {
-    // Packets only for an engine that traces them as such (the row says n/a).
-    let paths = if on_scene.variant.engine.traces_lanes(8).is_ok() {
-        2
-    } else {
-        1
-    };
+    let engine = on_scene.variant.engine;
     // Only the queries the engine has (the rows leave the others out).
-    let any_hit = on_scene.variant.engine.finds_any_hit().is_ok();
+    let any_hit = engine.finds_any_hit().is_ok();
     for (k, set) in on_scene.setup.kinds.iter().enumerate() {
         if set.kind.query() == Query::AnyHit && !any_hit {
             continue;
         }
-        for (v, variant) in ["single", "packet8"].into_iter().enumerate().take(paths) {
+        // Packets only for an engine that traces them as such (the row says n/a).
+        for (p, &path) in PATHS.iter().enumerate() {
+            if engine.traces_lanes(path.lanes()).is_err() {
+                continue;
+            }
             let start = Instant::now();
-            let hits = black_box(on_scene.structure.visit(TraceKind { set, packets: v == 1 }));
+            let hits = black_box(on_scene.structure.visit(TraceKind { set, path }));
             let rays = set.rays.len() as f64;
-            let seconds = hooks.apply(variant, rays, start.elapsed().as_secs_f64());
-            if round == 0 && v == 0 {
+            let seconds = hooks.apply(path_name(path), rays, start.elapsed().as_secs_f64());
+            if round == 0 && path == KernelKind::Scalar {
                 on_scene.hits[k] = hits;
             }
             if round > 0 {
-                timing.per_ray[k][v].push(seconds / set.rays.len().max(1) as f64);
+                timing.per_ray[k][p].push(seconds / set.rays.len().max(1) as f64);
             }
         }
     }
@@ -303,8 +304,9 @@ mod tests {
         for row in &rows {
             assert_eq!(row.build_ms.samples, BUILD_ROUNDS, "{}", row.scene);
             for k in &row.kinds {
-                assert_eq!(k.single_mrays.samples, 3);
-                assert_eq!(k.packet_mrays.unwrap().samples, 3);
+                let paths: Vec<&str> = k.paths.iter().map(|p| p.path).collect();
+                assert_eq!(paths, ["single", "packet8", "packet16"]);
+                assert!(k.paths.iter().all(|p| p.mrays.samples == 3));
             }
         }
         // The same structures and rays at either thread count: the same hits.

@@ -3,6 +3,7 @@
 
 use crate::bench::traversal::engines::EngineVariant;
 use crate::bench::traversal::setup::TraversalSetup;
+use crate::bench::traversal::trace::PATHS;
 use crate::engines::Built;
 
 /// A scene and an engine measured on it: the structure traced and the rays it hit.
@@ -21,8 +22,9 @@ pub(super) struct EngineOnScene<'a> {
 pub(super) struct Timings {
     /// Build times, ms.
     pub build_ms: Vec<f64>,
-    /// Per ray set: each round's seconds per ray of single rays and packets.
-    pub per_ray: Vec<[Vec<f64>; 2]>,
+    /// Per ray set and path of [`PATHS`]: each round's seconds per ray
+    /// (none for a path the engine does not trace).
+    pub per_ray: Vec<[Vec<f64>; PATHS.len()]>,
 }
 
 impl Timings {

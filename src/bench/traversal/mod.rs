@@ -1,11 +1,12 @@
-//! Traversal throughput: Mrays/s of single-ray and 8-ray packet traversal of the
-//! BVH on the standard ray kinds ([`RayKind`](crate::bench::rays::RayKind):
+//! Traversal throughput: Mrays/s of single-ray, 8- and 16-ray packet traversal
+//! of the BVH on the standard ray kinds ([`RayKind`](crate::bench::rays::RayKind):
 //! primary, shadow, ambient occlusion, diffuse and random rays), build times
 //! and the tree's SAH cost; shared by `raypack bench traversal` and the
 //! criterion bench `benches/traversal.rs`.
 //! With the `embree` feature, Embree's BVH is timed on the same rays alongside
-//! (`rtcIntersect1`/`rtcOccluded1` and `rtcIntersect8`/`rtcOccluded8`; its
-//! build gets the same thread count as raypack's).
+//! (`rtcIntersect1`/`rtcOccluded1`, `rtcIntersect8`/`rtcOccluded8` and
+//! `rtcIntersect16`/`rtcOccluded16`; its build gets the same thread count as
+//! raypack's).
 //!
 //! Rays are made before timing ([`RaySource`](crate::bench::rays::RaySource)),
 //! so only traversal is measured.
@@ -30,4 +31,4 @@ pub use instructions::{count_instructions, instructions_per_ray};
 pub use measure::{builds_how, measure};
 pub use rows::{BestVsEmbree, KindRow, TraversalRow};
 pub use setup::{TraversalSetup, scene_bounds};
-pub use trace::{TILE_RAYS, trace_batch, trace_packets, trace_packets16, trace_single};
+pub use trace::{PATHS, TILE_RAYS, path_name, trace_batch, trace_packets, trace_path, trace_single};

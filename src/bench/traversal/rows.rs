@@ -6,8 +6,11 @@ use crate::bench::figure::{Better, Figure};
 use crate::bench::rays::{KindRays, Query, RayKind};
 use crate::bench::traversal::engines::EngineVariant;
 use crate::bench::traversal::measured::{EngineOnScene, Timings};
+use crate::bench::traversal::trace::{PATHS, path_name};
 use crate::embree_settings::EmbreeIsa;
 use crate::engines::{Engine, WithAccel};
+use crate::packet::RayPacket;
+use crate::simd::SimdFloat;
 use crate::statistics::{StatsError, Summary};
 
 /// One row of the traversal table: a scene, an engine and a thread count.
@@ -49,8 +52,8 @@ impl TraversalRow {
         }
     }
 
-    /// The row's figures: build time, each kind's single-ray and packet
-    /// throughput, their ratio, and the growth of time per ray from the first scene.
+    /// The row's figures: build time, each kind's throughput by each path,
+    /// packets over single rays, and the growth of time per ray from the first scene.
     pub fn figures(&self) -> Vec<Figure> {
         let labels = |extra: &[(&'static str, String)]| -> Vec<(&'static str, String)> {
             let mut l = vec![
@@ -71,32 +74,27 @@ impl TraversalRow {
         )];
         for k in &self.kinds {
             let kind = ("rays", k.kind.name().to_string());
-            // The paths the engine traced (packets: not for a single-ray engine).
-            let paths = [("single", Some(k.single_mrays)), ("packet8", k.packet_mrays)];
-            for (v, (kernel, s)) in paths.into_iter().enumerate() {
-                let (Some(s), Some(growth)) = (s, k.growth_vs_first[v]) else {
-                    continue;
-                };
-                let l = labels(&[kind.clone(), ("kernel", kernel.to_string())]);
-                figures.push(Figure::new("throughput", "Mrays/s", Better::Higher, &l, s));
+            for p in &k.paths {
+                let l = labels(&[kind.clone(), ("kernel", p.path.to_string())]);
+                figures.push(Figure::new("throughput", "Mrays/s", Better::Higher, &l, p.mrays));
                 figures.push(Figure::new(
                     "time per ray vs first scene",
                     "x",
                     Better::Neither,
                     &l,
-                    growth,
+                    p.growth_vs_first,
                 ));
-                if let Some(vs) = k.vs_embree {
-                    figures.push(Figure::new("raypack/embree", "x", Better::Neither, &l, vs[v]));
+                if let Some(vs) = p.vs_embree {
+                    figures.push(Figure::new("raypack/embree", "x", Better::Neither, &l, vs));
                 }
             }
-            if let Some(ratio) = k.packet_vs_single {
+            for p in k.paths.iter().skip(1) {
                 figures.push(Figure::new(
-                    "packet8/single",
+                    format!("{}/single", p.path),
                     "x",
                     Better::Neither,
-                    &labels(&[kind]),
-                    ratio,
+                    &labels(std::slice::from_ref(&kind)),
+                    p.vs_single,
                 ));
             }
         }
@@ -115,42 +113,60 @@ pub struct KindRow {
     pub rays: usize,
     /// Rays that hit (nearest) or found something (any hit), single-ray traversal.
     pub hits: u64,
-    /// Single-ray traversal, Mrays/s.
-    pub single_mrays: Summary,
-    /// 8-ray packets, Mrays/s (None for an engine that traces single rays only).
-    pub packet_mrays: Option<Summary>,
-    /// `packet_mrays / single_mrays`, round by round.
-    pub packet_vs_single: Option<Summary>,
-    /// Counts of the single-ray pass (raypack only: Embree does not report them).
-    pub single_stats: Option<TraversalStats>,
-    /// Counts of the packet pass (raypack only).
-    pub packet_stats: Option<TraversalStats>,
-    /// Time per ray against the same engine and kind on the first scene
-    /// measured alongside, round by round (1 for itself): single rays, packets
-    /// (None where not traced).
-    pub growth_vs_first: [Option<Summary>; 2],
-    /// raypack rows: Mrays/s over Embree's on the same rays, round by round,
-    /// when Embree was measured alongside: single rays, packets.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub vs_embree: Option<[Summary; 2]>,
+    /// Each path the engine traced, in the order of [`PATHS`]: single rays
+    /// first (every engine traces them), then the packets it has.
+    pub paths: Vec<PathRow>,
     /// raypack rows: its fastest path against Embree's fastest path and
     /// setting on the same rays, when Embree was measured alongside.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub best_vs_embree: Option<BestVsEmbree>,
-    /// Instructions per ray at one thread, counted by callgrind (`bench
-    /// traversal --instructions`): single rays, packets (None where not traced).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub instructions_per_ray: Option<[Option<f64>; 2]>,
 }
 
 impl KindRow {
-    /// The faster of single rays and packets by median, Mrays/s, and which it was.
-    pub fn best(&self) -> (f64, &'static str) {
-        match self.packet_mrays {
-            Some(packet) if packet.median > self.single_mrays.median => (packet.median, "packet8"),
-            _ => (self.single_mrays.median, "single"),
-        }
+    /// Single rays' figures.
+    pub fn single(&self) -> &PathRow {
+        &self.paths[0]
     }
+
+    /// The figures of the path named `name` (`packet8`…), if traced.
+    pub fn path(&self, name: &str) -> Option<&PathRow> {
+        self.paths.iter().find(|p| p.path == name)
+    }
+
+    /// The fastest path by median, Mrays/s, and which it was.
+    pub fn best(&self) -> (f64, &'static str) {
+        self.paths.iter().fold((0.0, "single"), |best, p| {
+            if p.mrays.median > best.0 {
+                (p.mrays.median, p.path)
+            } else {
+                best
+            }
+        })
+    }
+}
+
+/// The figures of one path (single rays, 8- or 16-ray packets) of a [`KindRow`].
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PathRow {
+    /// `single`, `packet8` or `packet16` ([`path_name`]).
+    pub path: &'static str,
+    /// Mrays/s.
+    pub mrays: Summary,
+    /// Mrays/s over single rays', round by round (1 for single rays).
+    pub vs_single: Summary,
+    /// Time per ray against the same engine, kind and path on the first
+    /// scene measured alongside, round by round (1 for itself).
+    pub growth_vs_first: Summary,
+    /// raypack rows: Mrays/s over Embree's on the same path and rays (its
+    /// first setting measured), round by round, when Embree was measured alongside.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_embree: Option<Summary>,
+    /// Counts of one more, untimed pass (raypack only: Embree does not report them).
+    pub stats: Option<TraversalStats>,
+    /// Instructions per ray at one thread, counted by callgrind (`bench
+    /// traversal --instructions`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instructions_per_ray: Option<f64>,
 }
 
 /// raypack's fastest path against Embree's fastest path and setting (each
@@ -159,14 +175,11 @@ impl KindRow {
 pub struct BestVsEmbree {
     /// raypack's Mrays/s over Embree's, round by round.
     pub ratio: Summary,
-    /// raypack's fastest path: `single` or `packet8`.
+    /// raypack's fastest path: `single`, `packet8` or `packet16`.
     pub raypack: &'static str,
     /// Embree's fastest setting and path: `embree(avx2) packet8`…
     pub embree: String,
 }
-
-/// The names of a kind's two paths, in the order of its times.
-const PATHS: [&str; 2] = ["single", "packet8"];
 
 /// The table: per thread count of `thread_counts`, whose figures are
 /// `timings[t]`, a row for each scene and engine of `measured`, in order.
@@ -213,11 +226,11 @@ pub(super) fn rows(
 /// being its own figures at the row's thread count), the speed
 /// over Embree's on the same rays (`embree`: each setting measured, the
 /// first for the path-by-path ratios; none when not measured), and for
-/// raypack the SAH cost and the traversal counts of one more (untimed) pass of each variant.
+/// raypack the SAH cost and the traversal counts of one more (untimed) pass of each path.
 fn row(
     measured: &EngineOnScene<'_>,
     timing: &Timings,
-    first_per_ray: &[[Vec<f64>; 2]],
+    first_per_ray: &[[Vec<f64>; PATHS.len()]],
     embree: &[(EngineVariant, &Timings)],
     threads: usize,
     rounds: usize,
@@ -231,37 +244,38 @@ fn row(
         // A kind the engine has no query for was not traced: no row (the bench said why).
         .filter(|&(k, _)| traced(&timing.per_ray[k][0]))
         .map(|(k, set)| -> anyhow::Result<KindRow> {
-            let [single, packet] = &timing.per_ray[k];
+            let times = &timing.per_ray[k];
             // Per kind, the first scene's sets are the same kinds in the same order.
-            let first = first_per_ray.get(k).unwrap_or(&timing.per_ray[k]);
+            let first = first_per_ray.get(k).unwrap_or(times);
+            let theirs = embree_per_ray.and_then(|e| e.get(k));
             let stats = measured.structure.visit(Counted(set));
+            let paths = PATHS
+                .iter()
+                .enumerate()
+                .filter(|&(p, _)| traced(&times[p]))
+                .map(|(p, &path)| -> anyhow::Result<PathRow> {
+                    Ok(PathRow {
+                        path: path_name(path),
+                        mrays: mrays(&times[p])?,
+                        vs_single: Summary::paired_ratio(&times[0], &times[p])?,
+                        growth_vs_first: Summary::paired_ratio(&times[p], &first[p])?,
+                        vs_embree: theirs
+                            .map(|e| &e[p])
+                            .filter(|e| traced(e))
+                            .map(|e| Summary::paired_ratio(e, &times[p]))
+                            .transpose()?,
+                        stats: stats.map(|s| s[p]),
+                        instructions_per_ray: None,
+                    })
+                })
+                .collect::<anyhow::Result<_>>()?;
             Ok(KindRow {
                 kind: set.kind,
                 query: set.kind.query(),
                 rays: set.rays.len(),
                 hits: measured.hits[k],
-                single_mrays: mrays(single)?,
-                packet_mrays: traced(packet).then(|| mrays(packet)).transpose()?,
-                packet_vs_single: traced(packet)
-                    .then(|| Summary::paired_ratio(single, packet))
-                    .transpose()?,
-                single_stats: stats.map(|[single, _]| single),
-                packet_stats: stats.map(|[_, packet]| packet),
-                growth_vs_first: [
-                    Some(Summary::paired_ratio(single, &first[0])?),
-                    traced(packet)
-                        .then(|| Summary::paired_ratio(packet, &first[1]))
-                        .transpose()?,
-                ],
-                vs_embree: match embree_per_ray.and_then(|e| e.get(k)) {
-                    Some([e_single, e_packet]) => Some([
-                        Summary::paired_ratio(e_single, single)?,
-                        Summary::paired_ratio(e_packet, packet)?,
-                    ]),
-                    None => None,
-                },
-                best_vs_embree: best_vs_embree(&timing.per_ray[k], embree, k)?,
-                instructions_per_ray: None,
+                paths,
+                best_vs_embree: best_vs_embree(times, embree, k)?,
             })
         })
         .collect::<anyhow::Result<_>>()?;
@@ -309,7 +323,7 @@ fn fastest<'t, N>(
 /// raypack's fastest path of `ours` (kind `k`'s times) against the fastest
 /// path and setting of `embree` on the same kind; None without Embree.
 fn best_vs_embree(
-    ours: &[Vec<f64>; 2],
+    ours: &[Vec<f64>; PATHS.len()],
     embree: &[(EngineVariant, &Timings)],
     k: usize,
 ) -> Result<Option<BestVsEmbree>, StatsError> {
@@ -317,9 +331,12 @@ fn best_vs_embree(
         PATHS
             .into_iter()
             .zip(&t.per_ray[k])
-            .map(move |(path, per_ray)| ((*variant, path), &per_ray[..]))
+            .map(move |(path, per_ray)| ((*variant, path_name(path)), &per_ray[..]))
     });
-    let ours = PATHS.into_iter().zip(ours.iter().map(Vec::as_slice));
+    let ours = PATHS
+        .into_iter()
+        .map(path_name)
+        .zip(ours.iter().map(Vec::as_slice));
     let (Some((path, ours)), Some(((variant, their_path), theirs))) = (fastest(ours)?, fastest(theirs)?)
     else {
         return Ok(None);
@@ -350,30 +367,45 @@ fn build_vs_embree(
 }
 
 /// The traversal counts of a kind's rays on a structure that counts its work
-/// ([`Accel::COUNTS_WORK`]): single rays, packets; None for one that does not.
+/// ([`Accel::COUNTS_WORK`]), by each of [`PATHS`]; None for one that does not.
 struct Counted<'r>(&'r KindRays);
 
 impl WithAccel<'_> for Counted<'_> {
-    type Output = Option<[TraversalStats; 2]>;
+    type Output = Option<[TraversalStats; PATHS.len()]>;
 
     fn run<A: Accel>(self, accel: &A) -> Self::Output {
         if !A::COUNTS_WORK {
             return None;
         }
         let set = self.0;
-        let mut stats: [TraversalCounter; 2] = Default::default();
+        let any_hit = set.kind.query() == Query::AnyHit;
+        let mut stats: [TraversalCounter; PATHS.len()] = Default::default();
         for r in &set.rays {
-            match set.kind.query() {
-                Query::Nearest => _ = accel.intersect_counted(r, &mut stats[0]),
-                Query::AnyHit => _ = accel.occluded_counted(r, &mut stats[0]),
+            if any_hit {
+                _ = accel.occluded_counted(r, &mut stats[0]);
+            } else {
+                _ = accel.intersect_counted(r, &mut stats[0]);
             }
         }
-        for p in &set.packets {
-            match set.kind.query() {
-                Query::Nearest => _ = accel.intersect_packet_counted(p, &mut stats[1]),
-                Query::AnyHit => _ = accel.occluded_packet_counted(p, &mut stats[1]),
-            }
-        }
+        count_packets(accel, &set.packets, any_hit, &mut stats[1]);
+        count_packets(accel, &set.packets16, any_hit, &mut stats[2]);
         Some(stats.map(|s| *s.total()))
+    }
+}
+
+/// Trace `packets` through `accel` with any-hit or nearest-hit queries,
+/// counting the work into `stats`.
+fn count_packets<A: Accel, F: SimdFloat>(
+    accel: &A,
+    packets: &[RayPacket<F>],
+    any_hit: bool,
+    stats: &mut TraversalCounter,
+) {
+    for p in packets {
+        if any_hit {
+            _ = accel.occluded_packet_counted(p, stats);
+        } else {
+            _ = accel.intersect_packet_counted(p, stats);
+        }
     }
 }

@@ -1,5 +1,5 @@
 //! The timed loops: the single rays of one kind ([`KindRays`]) in batches, or its
-//! 8- or 16-ray packets, over any [`Accel`], tiles of [`TILE_RAYS`] spread over the
+//! 8- or 16-ray packets (the [`PATHS`]), over any [`Accel`], tiles of [`TILE_RAYS`] spread over the
 //! current rayon pool. They count hits, so that the work cannot be skipped.
 //!
 //! Every tile is one rayon task (`with_max_len(1)`), as the renderer's are, so
@@ -19,6 +19,7 @@ use crate::bench::rays::{KindRays, Query};
 use crate::packet::RayPacket;
 use crate::ray::{Hit, Ray};
 use crate::render::batch::BATCH;
+use crate::render::settings::KernelKind;
 use crate::simd::SimdFloat;
 
 /// Rays per tile: 16×16 pixels, 32 packets of 4×2 or 16 of 4×4.
@@ -65,9 +66,27 @@ pub fn trace_packets(accel: &impl Accel, set: &KindRays) -> u64 {
     trace_packed(accel, &set.packets, set.kind.query())
 }
 
-/// [`trace_packets`] with the 16-ray packets of `set`.
-pub fn trace_packets16(accel: &impl Accel, set: &KindRays) -> u64 {
-    trace_packed(accel, &set.packets16, set.kind.query())
+/// The paths a ray set is traced by, in the order of every row's figures:
+/// single rays, then 8- and 16-ray packets.
+pub const PATHS: [KernelKind; 3] = [KernelKind::Scalar, KernelKind::Packet8, KernelKind::Packet16];
+
+/// A path's name in the traversal bench's rows and figures: `single`,
+/// `packet8`, `packet16`.
+pub fn path_name(path: KernelKind) -> &'static str {
+    match path {
+        KernelKind::Scalar => "single",
+        packets => packets.name(),
+    }
+}
+
+/// Trace the rays of `set` by `path` (single rays, or its 8- or 16-ray
+/// packets) with its kind's query; returns how many hit.
+pub fn trace_path(accel: &impl Accel, set: &KindRays, path: KernelKind) -> u64 {
+    match path {
+        KernelKind::Scalar => trace_single(accel, set),
+        KernelKind::Packet8 => trace_packets(accel, set),
+        KernelKind::Packet16 => trace_packed(accel, &set.packets16, set.kind.query()),
+    }
 }
 
 /// Trace `packets` with `query`, tiles spread over the current rayon pool;
@@ -108,6 +127,12 @@ mod tests {
             assert_eq!(trace_single(&bvh, set), hits, "{:?}", set.kind);
             assert_eq!(trace_packets(&bvh, set), hits, "{:?}", set.kind);
             assert_eq!(trace_packets(&brute, set), hits, "{:?}", set.kind);
+            assert_eq!(
+                trace_path(&bvh, set, KernelKind::Packet16),
+                hits,
+                "{:?}",
+                set.kind
+            );
         }
     }
 }

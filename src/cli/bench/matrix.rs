@@ -33,7 +33,7 @@ const FETCH_ASSETS: &str = "scripts/fetch-assets.sh";
 /// Options of `bench matrix`.
 #[derive(Args, Debug)]
 #[command(after_long_help = "\
-Each cell is raypack's fastest path (single rays or 8-ray packets) over Embree's fastest path \
+Each cell is raypack's fastest path (single rays, 8- or 16-ray packets) over Embree's fastest path \
 and ISA setting, in Mrays/s of the same rays, taken round by round: its median and 95% interval. \
 A cell whose median is below 1.00 passes only if its interval reaches 1.05 (✗ marks a failing \
 cell). The build column is raypack's build time over Embree's faster setting's (✗ above 1.00). \

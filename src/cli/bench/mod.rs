@@ -19,7 +19,7 @@ pub enum BenchCommand {
     Kernels(kernels::KernelsArgs),
     /// Primary-ray throughput of a scene per kernel and thread count.
     Scene(scene::SceneArgs),
-    /// BVH build time and traversal Mrays/s, single vs 8-ray packets, primary vs random rays.
+    /// BVH build time and traversal Mrays/s, single rays vs 8- and 16-ray packets, per ray kind.
     Traversal(traversal::TraversalArgs),
     /// raypack against Embree on every ray kind, scene and thread count of
     /// issue 54's matrix, best path against best path, and the build times

@@ -1,5 +1,6 @@
 //! `raypack bench traversal`: BVH build times and traversal throughput per
-//! scene, engine, ray kind and thread count, single rays against 8-ray packets.
+//! scene, engine, ray kind and thread count, single rays against 8- and 16-ray
+//! packets.
 
 use clap::Args;
 
@@ -173,22 +174,47 @@ fn print_traversal(rows: &[TraversalRow]) -> CliResult {
             row.resolution.1,
         )?;
         for k in &row.kinds {
-            let mut counts = match (&k.single_stats, &k.packet_stats) {
-                (Some(s), Some(p)) => format!("  [single {}; packet {}]", s.caption(), p.caption()),
-                _ => String::new(),
+            // Each path's Mrays/s; packets' with their speed over single rays'.
+            let speeds: Vec<String> = k
+                .paths
+                .iter()
+                .map(|p| match p.path {
+                    "single" => format!("single {:>15}", figure(&p.mrays, 2, "")),
+                    _ => format!(
+                        "{} {:>15} ({})",
+                        p.path,
+                        figure(&p.mrays, 2, ""),
+                        figure(&p.vs_single, 2, "x")
+                    ),
+                })
+                .collect();
+            let counted: Vec<String> = k
+                .paths
+                .iter()
+                .filter_map(|p| Some(format!("{} {}", p.path, p.stats.as_ref()?.caption())))
+                .collect();
+            let mut counts = if counted.is_empty() {
+                String::new()
+            } else {
+                format!("  [{}]", counted.join("; "))
             };
-            if let Some(per_ray) = k.instructions_per_ray {
-                let [single, packet] = per_ray.map(|n| n.map_or("n/a".into(), |n| format!("{n:.0}")));
-                counts += &format!("  instructions/ray single {single} packet8 {packet}");
+            if k.paths.iter().any(|p| p.instructions_per_ray.is_some()) {
+                let per_ray: Vec<String> = k
+                    .paths
+                    .iter()
+                    .map(|p| {
+                        let n = p.instructions_per_ray.map_or("n/a".into(), |n| format!("{n:.0}"));
+                        format!("{} {n}", p.path)
+                    })
+                    .collect();
+                counts += &format!("  instructions/ray {}", per_ray.join(" "));
             }
             outln!(
-                "  {:<8} {:>8} rays {:>5.1}% hit: single {:>15} packet8 {:>15} Mrays/s ({}){counts}",
+                "  {:<8} {:>8} rays {:>5.1}% hit: {} Mrays/s{counts}",
                 k.kind.name(),
                 k.rays,
                 100.0 * k.hits as f64 / k.rays.max(1) as f64,
-                figure(&k.single_mrays, 2, ""),
-                k.packet_mrays.map_or("n/a".into(), |m| figure(&m, 2, "")),
-                k.packet_vs_single.map_or("n/a".into(), |r| figure(&r, 2, "x")),
+                speeds.join(" "),
             )?;
         }
     }
@@ -206,10 +232,12 @@ fn print_traversal(rows: &[TraversalRow]) -> CliResult {
                     .kinds
                     .iter()
                     .map(|k| {
-                        let [single, packet] = k
-                            .growth_vs_first
-                            .map(|g| g.map_or("n/a".into(), |g| figure(&g, 2, "x")));
-                        format!("{} single {single} packet8 {packet}", k.kind.name())
+                        let paths: Vec<String> = k
+                            .paths
+                            .iter()
+                            .map(|p| format!("{} {}", p.path, figure(&p.growth_vs_first, 2, "x")))
+                            .collect();
+                        format!("{} {}", k.kind.name(), paths.join(" "))
                     })
                     .collect();
                 outln!(
@@ -239,24 +267,18 @@ fn print_traversal(rows: &[TraversalRow]) -> CliResult {
         for (k, a) in ours.kinds.iter().enumerate() {
             let ratios: Vec<String> = theirs
                 .iter()
-                .map(|r| {
-                    let b = &r.kinds[k];
-                    format!(
-                        "vs {}: single {:.2}x packet8 {}x",
-                        r.variant().name(),
-                        a.single_mrays.median / b.single_mrays.median,
-                        packet_ratio(a, b)
-                    )
-                })
+                .map(|r| format!("vs {}: {}", r.variant().name(), path_ratios(a, &r.kinds[k])))
                 .collect();
-            let paired = a.vs_embree.map_or(String::new(), |[single, packet]| {
-                format!(
-                    "; paired vs {}: single {} packet8 {}",
-                    theirs[0].variant().name(),
-                    figure(&single, 2, "x"),
-                    figure(&packet, 2, "x")
-                )
-            });
+            let paired: Vec<String> = a
+                .paths
+                .iter()
+                .filter_map(|p| Some(format!("{} {}", p.path, figure(&p.vs_embree?, 2, "x"))))
+                .collect();
+            let paired = if paired.is_empty() {
+                String::new()
+            } else {
+                format!("; paired vs {}: {}", theirs[0].variant().name(), paired.join(" "))
+            };
             let ((best_a, path_a), (best_b, path_b)) = (a.best(), best_embree(&theirs, k));
             outln!(
                 "  {:<8} Mrays/s {}{paired}; best by medians {:.2}x (raypack {path_a} {best_a:.2} vs {path_b} {best_b:.2})",
@@ -327,10 +349,16 @@ fn print_growth_against_embree(rows: &[TraversalRow]) -> CliResult {
     Ok(())
 }
 
-/// raypack's packet throughput over another engine's, by medians, "n/a" where either traced no packets.
-fn packet_ratio(a: &KindRow, b: &KindRow) -> String {
-    match (a.packet_mrays, b.packet_mrays) {
-        (Some(a), Some(b)) => format!("{:.2}", a.median / b.median),
-        _ => "n/a".into(),
-    }
+/// raypack's throughput over another engine's on each path, by medians
+/// (`single 1.02x packet8 n/a…`: n/a where either did not trace the path).
+fn path_ratios(a: &KindRow, b: &KindRow) -> String {
+    let ratios: Vec<String> = a
+        .paths
+        .iter()
+        .map(|p| match b.path(p.path) {
+            Some(q) => format!("{} {:.2}x", p.path, p.mrays.median / q.mrays.median),
+            None => format!("{} n/a", p.path),
+        })
+        .collect();
+    ratios.join(" ")
 }
