@@ -166,8 +166,9 @@ pub fn table(inputs: &[Input]) -> Option<String> {
     }
     let mut out = String::from(
         "<section><h2>raypack against Embree, by ray kind</h2>\n<p>Per scene and thread count: \
-         raypack's best path (single rays or 8-ray packets) / Embree's best (<code>rtcIntersect1</code> \
-         / <code>rtcOccluded1</code> or 8-wide packets, at <code>isa=avx2</code> or its default; \
+         raypack's best path (single rays, 8- or 16-ray packets, as its results measured them) / \
+         Embree's best (<code>rtcIntersect1</code> / <code>rtcOccluded1</code>, 8- or 16-wide \
+         packets, at <code>isa=avx2</code> or its default; \
          packets whose rays point one way carry its coherent-ray flag), medians in Mrays/s of the \
          same rays in one run, and their ratio; build: milliseconds, raypack's against Embree's \
          faster setting (below 1× is faster). Each file's command and machine are in its section \
