@@ -44,7 +44,7 @@ The ratios need Embree: a raypack built without the `embree` feature refuses the
 (exit code 2) rather than print a table of raypack alone; `bench traversal` measures raypack \
 by itself.
 
-With the defaults, the whole matrix takes minutes on two cores (about 4 on an AMD EPYC Zen 4), \
+With the defaults, the whole matrix takes minutes on two cores (about 5 on an AMD EPYC Zen 5), \
 most of it on the 10^6 and 10^7 meshes. `raypack report` draws the JSON result as one table.")]
 pub struct MatrixArgs {
     /// Scenes, comma-separated: `gen:NAME[:N[:SEED]]` (as every SCENE),
