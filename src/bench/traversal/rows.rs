@@ -123,11 +123,6 @@ pub struct KindRow {
 }
 
 impl KindRow {
-    /// Single rays' figures.
-    pub fn single(&self) -> &PathRow {
-        &self.paths[0]
-    }
-
     /// The figures of the path named `name` (`packet8`…), if traced.
     pub fn path(&self, name: &str) -> Option<&PathRow> {
         self.paths.iter().find(|p| p.path == name)
