@@ -255,7 +255,7 @@ fn trace_each_kind(
         if set.kind.query() == Query::AnyHit && !any_hit {
             continue;
         }
-        // Packets only for an engine that traces them as such (the row says n/a).
+        // Packets only for an engine that traces them as such (its row leaves them out).
         for (p, &path) in PATHS.iter().enumerate() {
             if engine.traces_lanes(path.lanes()).is_err() {
                 continue;
